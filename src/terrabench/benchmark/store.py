@@ -1,0 +1,184 @@
+"""The results store: one DuckDB file, one row per trial, time series beside it.
+
+Tables:
+    ``meta(name, value)``: ``schema_version`` and the writer's package version.
+    ``trials``: one row per finished trial keyed by :attr:`TrialSpec.key`, with status,
+        metrics, info and the fully resolved config as JSON.
+    ``series(key, name, t_index, values)``: each stored time-series column as a DOUBLE[] list.
+
+A trial's series and its row are written in one transaction, row last, so an interrupted
+run leaves either the whole trial or nothing; re-running skips the keys already present.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+from pathlib import Path
+from typing import Any, Iterable
+
+import duckdb
+import numpy as np
+
+from terrabench.benchmark.trial import TrialResult, TrialSpec, canonical_json
+
+SCHEMA_VERSION = 1
+
+_DDL = [
+    "CREATE TABLE IF NOT EXISTS meta (name VARCHAR PRIMARY KEY, value VARCHAR)",
+    """CREATE TABLE IF NOT EXISTS trials (
+        key VARCHAR PRIMARY KEY,
+        system VARCHAR, scenario VARCHAR, method VARCHAR, instance VARCHAR, seed BIGINT,
+        config_hash VARCHAR, status VARCHAR, wall_time DOUBLE,
+        metrics JSON, info JSON, config JSON, finished_at TIMESTAMP, version VARCHAR)""",
+    """CREATE TABLE IF NOT EXISTS series (
+        key VARCHAR, name VARCHAR, position INTEGER, values DOUBLE[])""",
+]
+
+
+class StoreError(ValueError):
+    """A results file that cannot be used (wrong version, locked, not a DuckDB file)."""
+
+
+def _clean(obj: Any) -> Any:
+    """JSON-safe: NaN/inf become null, numpy scalars become Python numbers."""
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _metrics_back(d: dict[str, Any]) -> dict[str, float]:
+    return {k: (float("nan") if v is None else v) for k, v in d.items()}
+
+
+class ResultsStore:
+    """A DuckDB results file. Use as a context manager or call :meth:`close`."""
+
+    def __init__(self, path: str | Path, *, read_only: bool = False):
+        from terrabench import __version__
+
+        self.path = Path(path)
+        if read_only and not self.path.exists():
+            raise StoreError(f"results file not found: {str(self.path)!r} (run `terrabench run ...` first)")
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            self.con = duckdb.connect(str(self.path), read_only=read_only)
+        except duckdb.IOException as exc:
+            msg = str(exc).splitlines()[0]
+            raise StoreError(f"cannot open results file {str(self.path)!r}: {msg}") from None
+        except duckdb.Error as exc:
+            raise StoreError(f"{str(self.path)!r} is not a usable DuckDB results file: {str(exc).splitlines()[0]}") from None
+        self._check_or_init(read_only, __version__)
+
+    def _check_or_init(self, read_only: bool, version: str) -> None:
+        tables = {r[0] for r in self.con.execute("SELECT table_name FROM information_schema.tables").fetchall()}
+        if "meta" in tables:
+            row = self.con.execute("SELECT value FROM meta WHERE name = 'schema_version'").fetchone()
+            found = row[0] if row else "missing"
+            if found != str(SCHEMA_VERSION):
+                raise StoreError(
+                    f"results file {str(self.path)!r} has schema version {found}; this terrabench reads "
+                    f"version {SCHEMA_VERSION}. Use a new --store path (nothing was changed)."
+                )
+            return
+        if tables:
+            raise StoreError(f"{str(self.path)!r} is a DuckDB file but not a terrabench results store (tables: {sorted(tables)})")
+        if read_only:
+            raise StoreError(f"results file {str(self.path)!r} is empty")
+        for ddl in _DDL:
+            self.con.execute(ddl)
+        self.con.execute("INSERT INTO meta VALUES ('schema_version', ?), ('created_by', ?)", [str(SCHEMA_VERSION), version])
+
+    # ---------------------------------------------------------------- writing
+    def write(self, spec: TrialSpec, result: TrialResult) -> None:
+        """Store one finished trial atomically (replacing an earlier row with the same key)."""
+        from terrabench import __version__
+
+        key = spec.key
+        con = self.con
+        con.execute("BEGIN TRANSACTION")
+        try:
+            con.execute("DELETE FROM series WHERE key = ?", [key])
+            con.execute("DELETE FROM trials WHERE key = ?", [key])
+            if result.timeseries:
+                con.executemany(
+                    "INSERT INTO series VALUES (?, ?, ?, ?)",
+                    [
+                        [key, name, i, np.asarray(col, float).tolist()]
+                        for i, (name, col) in enumerate(result.timeseries.items())
+                    ],
+                )
+            con.execute(
+                "INSERT INTO trials VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                [
+                    key, spec.system, spec.scenario, spec.method, spec.instance, int(spec.seed),
+                    spec.config_hash, result.status, float(result.wall_time),
+                    json.dumps(_clean(result.metrics)), json.dumps(_clean(result.info)),
+                    canonical_json(_clean(dict(spec.config))),
+                    _dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None), __version__,
+                ],
+            )
+            con.execute("COMMIT")
+        except BaseException:
+            con.execute("ROLLBACK")
+            raise
+
+    # ---------------------------------------------------------------- reading
+    def done_keys(self, keys: Iterable[str] | None = None) -> set[str]:
+        rows = self.con.execute("SELECT key FROM trials").fetchall()
+        done = {r[0] for r in rows}
+        return done if keys is None else done & set(keys)
+
+    def rows(
+        self,
+        system: str | None = None,
+        scenario: str | None = None,
+        method: str | None = None,
+        keys: Iterable[str] | None = None,
+    ) -> list[dict[str, Any]]:
+        """Trial rows as dicts with parsed ``metrics``, ``info`` and ``config``."""
+        where, args = [], []
+        for col, val in (("system", system), ("scenario", scenario), ("method", method)):
+            if val is not None:
+                where.append(f"{col} = ?")
+                args.append(val)
+        sql = "SELECT key, system, scenario, method, instance, seed, config_hash, status, wall_time, metrics, info, config, finished_at FROM trials"
+        if where:
+            sql += " WHERE " + " AND ".join(where)
+        sql += " ORDER BY system, scenario, method, instance, seed"
+        cols = ["key", "system", "scenario", "method", "instance", "seed", "config_hash", "status", "wall_time", "metrics", "info", "config", "finished_at"]
+        out = []
+        wanted = set(keys) if keys is not None else None
+        for r in self.con.execute(sql, args).fetchall():
+            d = dict(zip(cols, r))
+            if wanted is not None and d["key"] not in wanted:
+                continue
+            d["metrics"] = _metrics_back(json.loads(d["metrics"]))
+            d["info"] = json.loads(d["info"])
+            d["config"] = json.loads(d["config"])
+            out.append(d)
+        return out
+
+    def timeseries(self, key: str) -> dict[str, np.ndarray]:
+        rows = self.con.execute("SELECT name, values FROM series WHERE key = ? ORDER BY position", [key]).fetchall()
+        return {name: np.array([np.nan if v is None else v for v in vals], float) for name, vals in rows}
+
+    def query(self, sql: str, params: list[Any] | None = None) -> list[tuple]:
+        """Run SQL against the store (tables ``trials``, ``series``, ``meta``)."""
+        return self.con.execute(sql, params or []).fetchall()
+
+    def close(self) -> None:
+        self.con.close()
+
+    def __enter__(self) -> "ResultsStore":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

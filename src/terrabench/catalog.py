@@ -1,0 +1,39 @@
+"""Fills :data:`terrabench.registry.REGISTRY` with every system, scenario and method.
+
+Systems register lazily ("module:attr" targets), so ``terrabench list`` never builds a model.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+
+from terrabench.registry import REGISTRY, Record, Registry
+
+#: system id -> module that defines ``register(registry)`` and ``SYSTEM``
+SYSTEM_MODULES = {
+    "mrs-cwc": "terrabench.systems.mrs_cwc",
+    "beams": "terrabench.systems.beams",
+}
+
+
+@functools.cache
+def populate(registry: Registry = REGISTRY) -> Registry:
+    for sid, module in SYSTEM_MODULES.items():
+        try:
+            mod = importlib.import_module(module)
+        except ImportError:  # a system still being built is simply absent
+            continue
+        if hasattr(mod, "register"):
+            mod.register(registry)
+    return registry
+
+
+def system_ids() -> list[str]:
+    return populate().ids("system")
+
+
+def system(name: str):
+    """The ``SYSTEM`` object of a system id; ValueError listing valid ids otherwise."""
+    record: Record = populate().get("system", name)
+    return record.load()

@@ -1,0 +1,245 @@
+"""The ``terrabench`` command line: list, run, report, perf, terrain.
+
+Bad input (unknown ids, a broken CSV, an incompatible results file, a non-positive timeout)
+ends with one red line naming the bad value and the valid choices, exit status 2, and no
+traceback; nothing already stored is touched.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import sys
+from pathlib import Path
+from typing import Callable, Optional
+
+import typer
+from rich.console import Console
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Robots that cross unknown rough terrain by touching it.")
+terrain_app = typer.Typer(no_args_is_help=True, help="Inspect benchmark terrains.")
+app.add_typer(terrain_app, name="terrain")
+console = Console()
+err_console = Console(stderr=True)
+
+DEFAULT_STORE = Path("results") / "terrabench.duckdb"
+
+
+def friendly(fn: Callable) -> Callable:
+    """Turn ValueError (our 'bad input' signal) into one clear line and exit status 2."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except ValueError as exc:
+            err_console.print(f"[bold red]error:[/] {exc}", highlight=False, soft_wrap=True)
+            raise typer.Exit(2) from None
+
+    return wrapper
+
+
+def _split(value: Optional[str]) -> Optional[list[str]]:
+    if value is None:
+        return None
+    items = [v.strip() for v in value.split(",") if v.strip()]
+    return items or None
+
+
+@app.command("list")
+@friendly
+def list_cmd() -> None:
+    """Systems, scenarios and methods, one line each."""
+    from terrabench.catalog import populate
+
+    reg = populate()
+    for kind in ("system", "scenario", "method"):
+        console.print(f"[bold]{kind}s[/]")
+        for r in reg.entries(kind):
+            prefix = f"{r.system}:" if kind == "method" else ""
+            console.print(f"  {prefix}{r.id:<28} {r.summary}", highlight=False)
+
+
+@app.command()
+@friendly
+def run(
+    system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
+    methods: Optional[str] = typer.Option(None, help="comma-separated method ids, or 'all'"),
+    terrains: Optional[str] = typer.Option(None, help="comma-separated terrain/case ids, e.g. A-01,B-07"),
+    group: Optional[str] = typer.Option(None, help="terrain group: A, B or all (default all)"),
+    seeds: int = typer.Option(1, help="seeds per (method, terrain); seed 0 is the released protocol"),
+    backend: str = typer.Option("local", help="local or ray"),
+    workers: Optional[int] = typer.Option(None, help="parallel trials (default: all cores)"),
+    address: Optional[str] = typer.Option(None, help="Ray cluster address (with --backend ray)"),
+    store: Path = typer.Option(DEFAULT_STORE, help="DuckDB results file"),
+    timeout: Optional[float] = typer.Option(None, help="simulated-time limit per trial (s)"),
+    threshold: Optional[float] = typer.Option(None, help="success distance to the target (m)"),
+    set_: list[str] = typer.Option([], "--set", help="config override KEY=VALUE (repeatable)"),
+    quiet: bool = typer.Option(False, help="no per-trial table"),
+) -> None:
+    """Run a system's trials (skipping those already stored) and print its table."""
+    from terrabench.benchmark.runner import BACKENDS, run_trials
+    from terrabench.benchmark.store import ResultsStore
+    from terrabench.catalog import system as get_system
+    from terrabench.config import parse_overrides
+
+    if timeout is not None and not timeout > 0:
+        raise ValueError(f"--timeout must be positive seconds, got {timeout}")
+    if threshold is not None and not threshold > 0:
+        raise ValueError(f"--threshold must be positive metres, got {threshold}")
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
+    if workers is not None and workers < 1:
+        raise ValueError(f"--workers must be at least 1, got {workers}")
+    sysobj = get_system(system)
+    overrides = parse_overrides(set_)
+    for value, attr, flag in ((timeout, "timeout_key", "--timeout"), (threshold, "threshold_key", "--threshold")):
+        if value is not None:
+            key = getattr(sysobj, attr, None)
+            if key is None:
+                raise ValueError(f"system {system!r} has no {flag} setting")
+            overrides[key] = value
+    specs = sysobj.plan(methods=_split(methods), instances=_split(terrains), group=group, seeds=seeds, overrides=overrides)
+    with ResultsStore(store) as st:
+        summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
+        rows = st.rows(keys=[s.key for s in specs])
+    if not quiet:
+        console.print(_trial_table(rows, sysobj))
+    console.print(sysobj.summarize(rows))
+    console.print(
+        f"{summary.requested} trials requested, {summary.skipped} already stored, {summary.finished} run "
+        f"in {summary.wall_time:.1f} s; statuses {summary.statuses or '{}'}; store: {store}",
+        highlight=False,
+    )
+    if summary.interrupted:
+        err_console.print("[yellow]interrupted:[/] finished trials are stored; run the same command to resume.")
+        raise typer.Exit(130)
+
+
+def _run_with_progress(run_trials, specs, store, backend, workers, address):
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
+                        TimeElapsedColumn(), TimeRemainingColumn(), TextColumn("{task.fields[last]}"),
+                        console=console, transient=False)
+    task = None
+
+    def on_start(n: int) -> None:
+        nonlocal task
+        task = progress.add_task("trials", total=n, last="")
+
+    def on_result(spec, result) -> None:
+        progress.update(task, advance=1, last=f"{spec.method} {spec.instance}: {result.status}")
+
+    with progress:
+        return run_trials(specs, store, backend=backend, workers=workers, address=address,
+                          on_result=on_result, on_start=on_start)
+
+
+def _trial_table(rows, sysobj):
+    from rich.table import Table
+
+    t = Table(title="trials")
+    for c in ("method", "instance", "seed", "status", "metrics", "wall s"):
+        t.add_column(c)
+    for r in rows:
+        m = r["metrics"]
+        keys = getattr(sysobj, "headline_metrics", None) or [k for k, v in m.items() if isinstance(v, (int, float))][:6]
+        shown = " ".join(f"{k}={m[k]:.3g}" for k in keys if k in m)
+        t.add_row(r["method"], r["instance"], str(r["seed"]), r["status"], shown, f"{r['wall_time']:.1f}")
+    return t
+
+
+@app.command()
+@friendly
+def report(
+    system: str = typer.Argument(..., help="system id"),
+    store: Path = typer.Option(DEFAULT_STORE, help="DuckDB results file"),
+    out: Optional[Path] = typer.Option(None, help="output folder (default reports/SYSTEM)"),
+) -> None:
+    """Write a system's report (HTML + PNG + CSV) from stored trials."""
+    from terrabench.benchmark.store import ResultsStore
+    from terrabench.catalog import system as get_system
+
+    sysobj = get_system(system)
+    out = out or Path("reports") / system
+    with ResultsStore(store, read_only=True) as st:
+        path = sysobj.report(st, out)
+    console.print(f"report written: {path}")
+
+
+@app.command()
+@friendly
+def perf(
+    system: str = typer.Argument("mrs-cwc", help="system id"),
+    method: str = typer.Option("cwc-tdt", help="method whose model and loop are timed"),
+    terrains: Optional[str] = typer.Option(None, help="terrain ids (default: a sample of group B)"),
+    seconds: float = typer.Option(30.0, help="simulated seconds per measurement"),
+) -> None:
+    """Raw mj_step throughput vs the full trial loop on the same model: steps/s, RTF, ratio."""
+    if system != "mrs-cwc":
+        raise ValueError(f"perf is implemented for system 'mrs-cwc' only, got {system!r}")
+    from terrabench.systems.mrs_cwc.perf import measure, perf_table
+
+    rows = measure(method, _split(terrains), seconds)
+    console.print(perf_table(rows))
+
+
+@terrain_app.command("stats")
+@friendly
+def terrain_stats(
+    group: Optional[str] = typer.Option(None, help="A, B or all"),
+    terrains: Optional[str] = typer.Option(None, help="comma-separated ids"),
+) -> None:
+    """Mean per-axis slope and maximum slope of each terrain."""
+    from rich.table import Table
+
+    from terrabench.terrain import dataset
+
+    t = Table(title="terrain slope statistics")
+    for c in ("id", "mean axis slope deg", "max slope deg", "mean slope deg", "relief m"):
+        t.add_column(c, justify="right")
+    for ter in dataset.select(_split(terrains), group):
+        s = ter.stats()
+        t.add_row(ter.id, f"{s['mean_axis_slope_deg']:.1f}", f"{s['max_slope_deg']:.1f}",
+                  f"{s['mean_slope_deg']:.1f}", f"{s['relief_m']:.2f}")
+    console.print(t)
+
+
+@terrain_app.command("show")
+@friendly
+def terrain_show(
+    terrain: str = typer.Argument(..., help="terrain id, e.g. B-07"),
+    out: Optional[Path] = typer.Option(None, help="PNG path (default TERRAIN.png)"),
+    store: Path = typer.Option(DEFAULT_STORE, help="results file with trials to overlay"),
+    methods: Optional[str] = typer.Option(None, help="methods whose leader paths to draw (default: all stored)"),
+) -> None:
+    """Picture of a terrain with start, target and stored leader paths."""
+    from terrabench.report.terrain_plot import plot_terrain
+    from terrabench.terrain import dataset
+
+    ter = dataset.get(terrain)
+    paths = {}
+    if store.exists():
+        from terrabench.benchmark.store import ResultsStore
+
+        wanted = _split(methods)
+        with ResultsStore(store, read_only=True) as st:
+            for r in st.rows(system="mrs-cwc"):
+                if r["instance"] == ter.id and r["seed"] == 0 and (wanted is None or r["method"] in wanted):
+                    ts = st.timeseries(r["key"])
+                    if "x" in ts:
+                        paths[f"{r['method']} ({r['status']})"] = (ts["x"], ts["y"])
+    out = out or Path(f"{ter.id}.png")
+    plot_terrain(ter, out, paths)
+    console.print(f"wrote {out} ({len(paths)} stored path(s) drawn)")
+
+
+def main() -> None:
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    app()
+
+
+if __name__ == "__main__":
+    main()

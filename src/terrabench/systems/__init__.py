@@ -1,0 +1,1 @@
+"""Robot systems. Each subpackage exposes ``SYSTEM``, an object implementing :class:`base.System`."""

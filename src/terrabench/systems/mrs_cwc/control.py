@@ -1,0 +1,316 @@
+"""Controllers of the MRS-CWC benchmark (spec section 4; paper eqs 6-12).
+
+A controller is built from two parts:
+
+- a *guidance* that gives the leader its reference heading: :class:`TargetDirection` (TDT,
+  no map) or :class:`WaypointGuidance` (the A* methods, the only ones given a map);
+- a *body law* that turns the observation and that heading into wheel speeds, and for the
+  linked variants into a yaw stiffness (:class:`CWCLaw`, CS) or yaw-servo targets
+  (:class:`HeadFollowing`, MJ); D uses :class:`FollowByPosition`.
+
+Everything runs once per control period (0.025 s) on an :class:`Observation`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from terrabench.systems.mrs_cwc.sensing import Observation, wrap
+
+STIFFNESS_MODES = ("released", "eq12", "constant")
+
+
+@dataclass(frozen=True)
+class DriveConfig:
+    """Differential wheel-speed law shared by leaders and CWC/CS followers.
+
+    Attributes:
+        wheel_speed: nominal wheel speed (rad/s); 1.5 rad/s x 0.05 m = 0.075 m/s.
+        turn_gain: differential gain on the heading error (rad/s per rad).
+    """
+
+    wheel_speed: float = 1.5
+    turn_gain: float = 0.6
+
+
+@dataclass(frozen=True)
+class StiffnessLawConfig:
+    """The CWC yaw-stiffness law (spec section 4, paper eqs 10-12).
+
+    Attributes:
+        mode: ``"released"`` (latch + sign memory, what produced the tables), ``"eq12"`` (the
+            paper's idealised rule) or ``"constant"`` (K* = k_low always: the CS method).
+        k_low: soft stiffness (N m/rad).  k_high: stiff stiffness (N m/rad).
+        k_init: stiffness at t = 0 (N m/rad).
+        latch_on: |tau_env| above which "soft" latches on (N m).
+        latch_off: |tau_env| below which it releases (N m).
+        inertia: leader yaw inertia used in tau_env (kg m^2).
+        motor_gain: steering torque = motor_gain * (tau_R - tau_L).
+        sign_error_threshold: |0.5 e| at or above which the sign memory updates.
+        memory_rate: weight of a new sign in the memory (0.1).
+        ema: weight of K* in the first-order smoothing (0.03).
+        window: length of the moving average after it (5 values).
+        control_period: (s).
+    """
+
+    mode: str = "released"
+    k_low: float = 5.0
+    k_high: float = 100.0
+    k_init: float = 0.1
+    latch_on: float = 20.0
+    latch_off: float = 1.0
+    inertia: float = 0.0042181
+    motor_gain: float = 1.2
+    sign_error_threshold: float = 0.6
+    memory_rate: float = 0.1
+    ema: float = 0.03
+    window: int = 5
+    control_period: float = 0.025
+
+    def __post_init__(self) -> None:
+        if self.mode not in STIFFNESS_MODES:
+            raise ValueError(f"unknown stiffness mode {self.mode!r}; valid: {', '.join(STIFFNESS_MODES)}")
+        if self.k_low <= 0 or self.k_high <= 0:
+            raise ValueError(f"stiffnesses must be positive, got k_low={self.k_low}, k_high={self.k_high}")
+
+
+class StiffnessLaw:
+    """Computes the common yaw stiffness of all five links from the leader's measurements.
+
+    Call :meth:`update` once per control period with the leader's heading error ``e`` (rad),
+    yaw rate (rad/s), wheel torques ``tau_l, tau_r`` (N m) and link-1 relative yaw ``q1`` (rad).
+    """
+
+    def __init__(self, cfg: StiffnessLawConfig):
+        self.cfg = cfg
+        self.k = cfg.k_init
+        self.memory = -1.0
+        self.soft = False
+        self.tau_env = 0.0
+        self._prev_rate: float | None = None
+        self._history: deque[float] = deque(maxlen=cfg.window)
+
+    def update(self, e: float, yaw_rate: float, tau_l: float, tau_r: float, q1: float) -> float:
+        c = self.cfg
+        alpha = 0.0 if self._prev_rate is None else (yaw_rate - self._prev_rate) / c.control_period
+        self._prev_rate = yaw_rate
+        tau_m = c.motor_gain * (tau_r - tau_l)
+        tau_spring = -self.k * q1
+        # Sign convention as released (spec section 4): tau_env = I*alpha + tau_m - tau_spring.
+        self.tau_env = c.inertia * alpha + tau_m - tau_spring
+        big = abs(self.tau_env)
+        if c.mode == "constant":
+            target = c.k_low
+        elif c.mode == "eq12":
+            target = c.k_low if (tau_m * tau_spring < 0 or big >= c.latch_on) else c.k_high
+        else:
+            if abs(0.5 * e) >= c.sign_error_threshold:
+                self.memory = (1 - c.memory_rate) * self.memory + c.memory_rate * _sign(tau_spring) * _sign(e)
+            if big > c.latch_on:
+                self.soft = True
+            elif big < c.latch_off:
+                self.soft = False
+            target = c.k_low if self.soft else (c.k_high if self.memory > 0 else c.k_low)
+        # K_prev in the smoothing is the previously applied stiffness (see docs/assumptions.md).
+        self._history.append(c.ema * target + (1 - c.ema) * self.k)
+        self.k = sum(self._history) / len(self._history)
+        return self.k
+
+
+def _sign(x: float) -> float:
+    return (x > 0) - (x < 0)
+
+
+class Guidance(Protocol):
+    def heading(self, obs: Observation) -> float:
+        """Reference heading for the leader (rad)."""
+
+
+class TargetDirection:
+    """TDT: head straight for the target's bearing; needs no map."""
+
+    def heading(self, obs: Observation) -> float:
+        return obs.target_bearing
+
+
+@dataclass(frozen=True)
+class WaypointConfig:
+    """Waypoint following of the A* methods (spec section 4).
+
+    Attributes:
+        reach_radius: advance when the leader is this close to the current waypoint (m).
+        patience: advance anyway after this long on one waypoint (s).
+    """
+
+    reach_radius: float = 0.5
+    patience: float = 90.0
+
+
+class WaypointGuidance:
+    """Follow a list of waypoints (n, 2) in world XY (m); the last one is the target."""
+
+    def __init__(self, waypoints: np.ndarray, cfg: WaypointConfig = WaypointConfig()):
+        wp = np.asarray(waypoints, float)
+        if wp.ndim != 2 or wp.shape[1] != 2 or len(wp) == 0:
+            raise ValueError(f"waypoints must have shape (n, 2), got {wp.shape}")
+        self.wp, self.cfg = wp, cfg
+        self.index = 0
+        self._since = 0.0
+
+    def heading(self, obs: Observation) -> float:
+        p = obs.pos[0, :2]
+        d = np.hypot(self.wp[:, 0] - p[0], self.wp[:, 1] - p[1])
+        last = len(self.wp) - 1
+        i = self.index
+        if i < last:
+            later = i + 1 + int(np.argmin(d[i + 1 :]))
+            if d[later] < d[i]:
+                i = later
+            elif d[i] < self.cfg.reach_radius or obs.t - self._since > self.cfg.patience:
+                i += 1
+        if i != self.index:
+            self.index, self._since = i, obs.t
+        return math.atan2(self.wp[i, 1] - p[1], self.wp[i, 0] - p[0])
+
+
+class Command:
+    """What a body law returns each period.
+
+    Attributes:
+        wheel_speed: (n, 2) [left, right] targets for the velocity servos (rad/s).
+        yaw_stiffness: common yaw-spring stiffness (N m/rad), or None to leave it.
+        yaw_target: (n-1,) yaw-servo targets (rad), or None.
+    """
+
+    __slots__ = ("wheel_speed", "yaw_stiffness", "yaw_target")
+
+    def __init__(self, n: int):
+        self.wheel_speed = np.zeros((n, 2))
+        self.yaw_stiffness: float | None = None
+        self.yaw_target: np.ndarray | None = None
+
+
+class BodyLaw(Protocol):
+    def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
+        """Fill ``cmd`` in place."""
+
+    #: the last |tau_env| estimate (N m), NaN where the law has none
+    tau_env: float
+
+
+def _differential(cmd: Command, errors: np.ndarray, drive: DriveConfig) -> None:
+    cmd.wheel_speed[:, 0] = drive.wheel_speed - drive.turn_gain * errors
+    cmd.wheel_speed[:, 1] = drive.wheel_speed + drive.turn_gain * errors
+
+
+class CWCLaw:
+    """CWC and CS: followers copy the predecessor's heading; yaw stiffness from the law."""
+
+    def __init__(self, n: int, drive: DriveConfig, law: StiffnessLawConfig):
+        self.drive, self.law = drive, StiffnessLaw(law)
+        self._errors = np.zeros(n)
+
+    @property
+    def tau_env(self) -> float:
+        return self.law.tau_env
+
+    def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
+        e = self._errors
+        e[0] = wrap(heading_ref - obs.yaw[0])
+        e[1:] = wrap(obs.yaw[:-1] - obs.yaw[1:])
+        _differential(cmd, e, self.drive)
+        tq = obs.wheel_torque[0]
+        cmd.yaw_stiffness = self.law.update(float(e[0]), float(obs.yaw_rate[0]), float(tq[0]), float(tq[1]), float(obs.joint_yaw[0]))
+
+
+@dataclass(frozen=True)
+class HeadFollowingConfig:
+    """MJ (ACM-R4-like) head-following control (spec section 4).
+
+    Attributes:
+        follower_wheel_speed: constant wheel speed of units 2-6 (rad/s).
+        dead_band: |e| below which the head joint target is 0 (rad).
+        head_angle: head joint target magnitude outside the dead band (rad).
+        ema: smoothing weight of the head target.
+        delay_steps: control periods by which each joint repeats its predecessor's command.
+        compliance: torque-to-angle compliance (rad per N m).
+    """
+
+    follower_wheel_speed: float = math.pi / 2
+    dead_band: float = math.radians(25.0)
+    head_angle: float = math.radians(35.0)
+    ema: float = 0.03
+    delay_steps: int = 20
+    compliance: float = 0.01
+
+
+class HeadFollowing:
+    """MJ: the head joint bends toward the target; each joint repeats it 0.5 s later."""
+
+    tau_env = float("nan")
+
+    def __init__(self, n: int, drive: DriveConfig, cfg: HeadFollowingConfig):
+        self.drive, self.cfg = drive, cfg
+        self.a = 0.0
+        self._errors = np.zeros(n)
+        # history[j] holds joint j's past compliant-free commands, newest last
+        self._history = [deque([0.0] * cfg.delay_steps, maxlen=cfg.delay_steps) for _ in range(n - 1)]
+        self._targets = np.zeros(n - 1)
+
+    def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
+        c = self.cfg
+        e0 = wrap(heading_ref - obs.yaw[0])
+        self._errors[0] = e0
+        _differential(cmd, self._errors, self.drive)
+        cmd.wheel_speed[1:, :] = c.follower_wheel_speed
+        target = 0.0 if abs(e0) < c.dead_band else math.copysign(c.head_angle, e0)
+        self.a = c.ema * target + (1 - c.ema) * self.a
+        base = self.a
+        for j, hist in enumerate(self._history):
+            delayed = hist[0]  # the predecessor's command delay_steps periods ago
+            hist.append(base)
+            self._targets[j] = base - c.compliance * obs.yaw_torque[j]
+            base = delayed
+        cmd.yaw_target = self._targets
+
+
+@dataclass(frozen=True)
+class FollowConfig:
+    """D: follow the predecessor's position (spec section 4).
+
+    Attributes:
+        bearing_gain: gain on the bearing error before the differential term.
+        speed_gain: wheel speed per metre of excess distance (rad/s/m).
+        stop_distance: followers stop within this distance (m).
+    """
+
+    bearing_gain: float = 10.0
+    speed_gain: float = 5.0
+    stop_distance: float = 0.1
+
+
+class FollowByPosition:
+    """D: six free units; each follower steers to its predecessor's position."""
+
+    tau_env = float("nan")
+
+    def __init__(self, n: int, drive: DriveConfig, cfg: FollowConfig):
+        self.drive, self.cfg = drive, cfg
+
+    def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
+        c, d = self.cfg, self.drive
+        e0 = wrap(heading_ref - obs.yaw[0])
+        cmd.wheel_speed[0, 0] = d.wheel_speed - d.turn_gain * e0
+        cmd.wheel_speed[0, 1] = d.wheel_speed + d.turn_gain * e0
+        rel = obs.pos[:-1, :2] - obs.pos[1:, :2]
+        dist = np.hypot(rel[:, 0], rel[:, 1])
+        err = c.bearing_gain * wrap(np.arctan2(rel[:, 1], rel[:, 0]) - obs.yaw[1:])
+        base = c.speed_gain * (dist - c.stop_distance)
+        go = dist > c.stop_distance
+        cmd.wheel_speed[1:, 0] = np.where(go, base - d.turn_gain * err, 0.0)
+        cmd.wheel_speed[1:, 1] = np.where(go, base + d.turn_gain * err, 0.0)

@@ -1,0 +1,250 @@
+"""The MRS-CWC robot chain, built with :class:`mujoco.MjSpec` (spec section 3).
+
+Six two-wheeled units 0.30 m apart. Link variants (one robot build each):
+
+- ``"spring"`` (CWC and CS): yaw, pitch and roll spring hinges at the joint point 0.15 m
+  behind each unit, two 0.4 kg link masses between them; yaw stiffness is set at run time.
+- ``"motor"`` (MJ): a position-controlled yaw hinge and a pitch spring, one 1.3 kg link mass.
+- ``"none"`` (D): six independent units, each with its own free joint.
+
+All names live in :class:`Names`; everything a controller may read is a MuJoCo sensor.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from terrabench.terrain.mjcf import GROUND_BIT
+
+LINK_VARIANTS = ("spring", "motor", "none")
+#: Yaw hinges turn about -z so that the joint angle is (predecessor yaw - follower yaw): the
+#: "relative yaw between robot k and robot k+1" of the stiffness law, and a positive MJ command
+#: bends the chain's front to the left.
+YAW_AXIS = (0.0, 0.0, -1.0)
+ROBOT_BIT = 2  # robot bodies collide with each other and the ground; wheels only with the ground
+
+
+@dataclass(frozen=True)
+class ChainConfig:
+    """Dimensions and masses of the chain (spec section 3; paper Fig. 2).
+
+    Attributes:
+        n_units: number of units.
+        spacing: distance between consecutive unit centres (m).
+        joint_offset: joint point behind each unit centre (m).
+        body_radius: capsule radius (m).
+        body_length: capsule length, end to end (m).
+        body_mass: body mass (kg).
+        com_drop: centre of mass below the capsule centre (m).
+        body_inertia_per_kg: principal inertia / mass about (longitudinal, lateral, vertical) (m^2).
+        wheel_radius: (m).  wheel_width: (m).  wheel_mass: each (kg).
+        track_half: lateral offset of each wheel (m).  axle_drop: axle below body centre (m).
+        wheel_friction: effective wheel-ground friction (Bullet multiplies the pair's 1.0 and 2.0).
+        wheel_kv: velocity-servo gain of the wheel motors (N m s/rad).
+        wheel_torque_limit: (N m).
+        bumper_radius, bumper_thickness, bumper_mass, bumper_ahead, bumper_up: the leader's disc.
+        link_mass_spring: each of the two link masses of the spring variant (kg).
+        link_mass_motor: the link mass of the motor variant (kg).
+        k_pitch: pitch spring (N m/rad).  k_roll: roll spring (N m/rad).
+        k_yaw_init: yaw stiffness at t = 0 (N m/rad).
+        yaw_kp: position gain of the MJ yaw servo (N m/rad); large = "effectively unlimited torque".
+        yaw_kv: damping of the MJ yaw servo (N m s/rad).
+    """
+
+    n_units: int = 6
+    spacing: float = 0.30
+    joint_offset: float = 0.15
+    body_radius: float = 0.05
+    body_length: float = 0.20
+    body_mass: float = 3.374
+    com_drop: float = 0.10
+    body_inertia_per_kg: tuple[float, float, float] = (0.00125, 0.003177, 0.003177)
+    wheel_radius: float = 0.05
+    wheel_width: float = 0.02
+    wheel_mass: float = 1.57
+    track_half: float = 0.06
+    axle_drop: float = 0.025
+    wheel_friction: float = 2.0
+    wheel_kv: float = 50.0
+    wheel_torque_limit: float = 100.0
+    bumper_radius: float = 0.09
+    bumper_thickness: float = 0.02
+    bumper_mass: float = 2.8
+    bumper_ahead: float = 0.12
+    bumper_up: float = 0.05
+    link_mass_spring: float = 0.4
+    link_mass_motor: float = 1.3
+    k_pitch: float = 15.0
+    k_roll: float = 30.0
+    k_yaw_init: float = 0.1
+    yaw_kp: float = 2000.0
+    yaw_kv: float = 20.0
+
+
+class Names:
+    """Every name the chain model defines, in one place."""
+
+    @staticmethod
+    def unit(k: int) -> str:
+        return f"unit{k}"
+
+    @staticmethod
+    def wheel(k: int, side: str) -> str:
+        return f"unit{k}_wheel_{side}"
+
+    @staticmethod
+    def motor(k: int, side: str) -> str:
+        return f"unit{k}_motor_{side}"
+
+    @staticmethod
+    def link_joint(k: int, axis: str) -> str:
+        """Joint between unit k-1 and unit k (k >= 1), axis in yaw|pitch|roll."""
+        return f"link{k}_{axis}"
+
+    yaw_servo = staticmethod(lambda k: f"link{k}_yaw_servo")
+    SIDES = ("left", "right")
+
+
+def _unit_body(parent: mujoco.MjsBody, k: int, pos, cfg: ChainConfig, leader: bool) -> mujoco.MjsBody:
+    m, (ix, iy, iz) = cfg.body_mass, cfg.body_inertia_per_kg
+    body = parent.add_body(name=Names.unit(k), pos=list(pos))
+    body.explicitinertial = True
+    body.mass = m
+    body.ipos = [0, 0, -cfg.com_drop]
+    body.inertia = [m * ix, m * iy, m * iz]
+    half_cyl = max(cfg.body_length / 2 - cfg.body_radius, 1e-4)
+    body.add_geom(
+        name=f"{Names.unit(k)}_body",
+        type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+        size=[cfg.body_radius, half_cyl, 0],
+        quat=[np.sqrt(0.5), 0, np.sqrt(0.5), 0],  # capsule axis along x
+        contype=ROBOT_BIT,
+        conaffinity=GROUND_BIT | ROBOT_BIT,
+        condim=1,  # body friction ~0 in the released scenes
+        priority=1,
+        friction=[0, 0, 0],
+        mass=0,
+        rgba=[0.9, 0.45, 0.1, 1] if leader else [0.2, 0.45, 0.8, 1],
+    )
+    body.add_site(name=f"{Names.unit(k)}_imu")
+    for side, sgn in (("left", 1.0), ("right", -1.0)):
+        wb = body.add_body(name=Names.wheel(k, side), pos=[0, sgn * cfg.track_half, -cfg.axle_drop])
+        wb.add_joint(name=Names.wheel(k, side), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
+        wb.add_geom(
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[cfg.wheel_radius, cfg.wheel_width / 2, 0],
+            quat=[np.sqrt(0.5), np.sqrt(0.5), 0, 0],  # cylinder axis along y
+            mass=cfg.wheel_mass,
+            contype=0,
+            conaffinity=GROUND_BIT,
+            condim=3,
+            priority=1,
+            friction=[cfg.wheel_friction, 0.005, 0.0001],
+            rgba=[0.1, 0.1, 0.1, 1],
+        )
+    if leader:
+        bumper = body.add_body(name="bumper", pos=[cfg.bumper_ahead, 0, cfg.bumper_up])
+        bumper.add_geom(
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[cfg.bumper_radius, cfg.bumper_thickness / 2, 0],
+            mass=cfg.bumper_mass,
+            contype=ROBOT_BIT,
+            conaffinity=GROUND_BIT | ROBOT_BIT,
+            condim=1,
+            priority=1,
+            friction=[0, 0, 0],
+            rgba=[0.9, 0.8, 0.2, 1],
+        )
+    return body
+
+
+def _small_mass(body: mujoco.MjsBody, mass: float) -> None:
+    body.explicitinertial = True
+    body.mass = mass
+    i = 0.4 * mass * 0.02**2  # a 2 cm solid sphere
+    body.inertia = [i, i, i]
+
+
+def _hinge(body: mujoco.MjsBody, name: str, axis, stiffness: float) -> None:
+    body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis), stiffness=stiffness)
+
+
+def add_chain(
+    spec: mujoco.MjSpec,
+    variant: str,
+    start: tuple[float, float, float],
+    cfg: ChainConfig = ChainConfig(),
+) -> None:
+    """Add the chain to ``spec`` with the leader at ``start`` heading +x, followers along -x."""
+    if variant not in LINK_VARIANTS:
+        raise ValueError(f"unknown link variant {variant!r}; valid: {', '.join(LINK_VARIANTS)}")
+    x0, y0, z0 = start
+    world = spec.worldbody
+    if variant == "none":
+        for k in range(cfg.n_units):
+            b = _unit_body(world, k, (x0 - k * cfg.spacing, y0, z0), cfg, leader=k == 0)
+            b.add_freejoint(name=f"{Names.unit(k)}_free")
+    else:
+        parent = _unit_body(world, 0, (x0, y0, z0), cfg, leader=True)
+        parent.add_freejoint(name=f"{Names.unit(0)}_free")
+        rest = cfg.spacing - cfg.joint_offset
+        for k in range(1, cfg.n_units):
+            yaw = parent.add_body(name=f"link{k}_a", pos=[-cfg.joint_offset, 0, 0])
+            if variant == "spring":
+                _small_mass(yaw, cfg.link_mass_spring)
+                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, cfg.k_yaw_init)
+                pitch = yaw.add_body(name=f"link{k}_b")
+                _small_mass(pitch, cfg.link_mass_spring)
+                _hinge(pitch, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch)
+                child = _unit_body(pitch, k, (-rest, 0, 0), cfg, leader=False)
+                _hinge(child, Names.link_joint(k, "roll"), (1, 0, 0), cfg.k_roll)
+                child.joints[0].pos = [rest, 0, 0]
+            else:
+                _small_mass(yaw, cfg.link_mass_motor)
+                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, 0.0)
+                child = _unit_body(yaw, k, (-rest, 0, 0), cfg, leader=False)
+                _hinge(child, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch)
+                child.joints[0].pos = [rest, 0, 0]
+                spec.add_actuator(
+                    name=Names.yaw_servo(k),
+                    target=Names.link_joint(k, "yaw"),
+                    trntype=mujoco.mjtTrn.mjTRN_JOINT,
+                ).set_to_position(kp=cfg.yaw_kp, kv=cfg.yaw_kv)
+            parent = child
+    for k in range(cfg.n_units):
+        for side in Names.SIDES:
+            act = spec.add_actuator(
+                name=Names.motor(k, side),
+                target=Names.wheel(k, side),
+                trntype=mujoco.mjtTrn.mjTRN_JOINT,
+                forcelimited=True,
+                forcerange=[-cfg.wheel_torque_limit, cfg.wheel_torque_limit],
+            )
+            act.set_to_velocity(kv=cfg.wheel_kv)
+    _add_sensors(spec, variant, cfg)
+
+
+def _add_sensors(spec: mujoco.MjSpec, variant: str, cfg: ChainConfig) -> None:
+    """What the real chain measures: unit pose (IMU + odometry), joint angles, wheel states."""
+    S = mujoco.mjtSensor
+    for k in range(cfg.n_units):
+        site = f"{Names.unit(k)}_imu"
+        spec.add_sensor(name=f"{Names.unit(k)}_pos", type=S.mjSENS_FRAMEPOS, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        spec.add_sensor(name=f"{Names.unit(k)}_quat", type=S.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        spec.add_sensor(name=f"{Names.unit(k)}_angvel", type=S.mjSENS_FRAMEANGVEL, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+    for k in range(cfg.n_units):
+        for side in Names.SIDES:
+            spec.add_sensor(name=f"{Names.wheel(k, side)}_vel", type=S.mjSENS_JOINTVEL, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.wheel(k, side))
+    for k in range(cfg.n_units):
+        for side in Names.SIDES:
+            spec.add_sensor(name=f"{Names.motor(k, side)}_torque", type=S.mjSENS_ACTUATORFRC, objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.motor(k, side))
+    if variant != "none":
+        for k in range(1, cfg.n_units):
+            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_angle", type=S.mjSENS_JOINTPOS, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))
+    if variant == "motor":
+        for k in range(1, cfg.n_units):
+            spec.add_sensor(name=f"{Names.yaw_servo(k)}_torque", type=S.mjSENS_ACTUATORFRC, objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.yaw_servo(k))
+            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_vel", type=S.mjSENS_JOINTVEL, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import Beam, ModelConfig, deflection_vec, simulate
+from .model import Beam, ModelConfig, SimLog, deflection_vec, simulate
 
 #: Names of the fitted parameters per estimation variant (number of unknowns).
 VARIANTS = {
@@ -43,10 +43,15 @@ class SensingConfig:
     """Open-loop propulsion F_x after first contact while sensing, N (paper Sec. III-B-i)."""
     x_start: float = -0.08
     """Initial x of the robot centre, m (contact happens near x = -0.062 m)."""
+    lookahead: float = 0.3
+    """Extra simulated time after the window used only to check that contact goes on, s."""
     max_approach_time: float = 5.0
     """Give up looking for first contact after this long, s."""
     per_axis_noise: bool = True
     """Draw Z independently for each force axis (True) or one Z per sample (False)."""
+    drive_speed: float | None = None
+    """If set, x is driven at this constant speed, m/s (the experiment's servo carriage) and
+    ``push_force`` is ignored."""
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.sigma) and self.sigma >= 0):
@@ -105,6 +110,8 @@ class SensingData:
     """Pose and velocity at the end of the window (x, alpha, beta) and their rates."""
     contact_duration: float
     """How long contact lasted within the simulated span, s (lower bound)."""
+    log: "SimLog | None" = None
+    """The full per-step simulation of the approach and push (None when not kept)."""
 
 
 def sense(cfg: ModelConfig, sensing: SensingConfig, rng: np.random.Generator,
@@ -130,7 +137,7 @@ def sense(cfg: ModelConfig, sensing: SensingConfig, rng: np.random.Generator,
     shape = f.shape if sensing.per_axis_noise else (f.shape[0], 1)
     z = rng.normal(0.0, sensing.sigma, size=shape) if sensing.sigma > 0 else np.zeros(shape)
     return SensingData(clean.t, clean.q, f, f * (1.0 + z), clean.t_contact, clean.state_end,
-                       clean.contact_duration)
+                       clean.contact_duration, clean.log)
 
 
 def sense_clean(cfg: ModelConfig, sensing: SensingConfig) -> SensingData:
@@ -151,10 +158,12 @@ def sense_clean(cfg: ModelConfig, sensing: SensingConfig) -> SensingData:
     def stop(t, q, v, tc):
         if math.isnan(tc):
             return t >= sensing.max_approach_time
-        return t >= tc + sensing.sensing_time - 1e-12
+        return t >= tc + sensing.sensing_time + sensing.lookahead - 1e-12
 
-    log = simulate(cfg, (sensing.x_start, 0.0, 0.0), (r.v0, 0.0, 0.0),
-                   sensing.max_approach_time + sensing.sensing_time + 0.1, ctrl, x_exit=None, stop=stop)
+    v_init = r.v0 if sensing.drive_speed is None else sensing.drive_speed
+    log = simulate(cfg, (sensing.x_start, 0.0, 0.0), (v_init, 0.0, 0.0),
+                   sensing.max_approach_time + sensing.sensing_time + sensing.lookahead + 0.1, ctrl,
+                   x_exit=None, stop=stop, fixed_x_speed=sensing.drive_speed)
     if math.isnan(log.t_contact):
         raise ValueError(
             "the robot never touched the beams within "
@@ -164,14 +173,21 @@ def sense_clean(cfg: ModelConfig, sensing: SensingConfig) -> SensingData:
     touching = np.abs(log.theta).sum(1) > 0
     last = log.t[np.nonzero(touching)[0][-1]]
     duration = last - log.t_contact
-    t_req = log.t_contact + np.arange(1, n_samples + 1) * t_sample
-    if log.outcome == "fell" or t_req[-1] > log.t[-1] + 1e-9 or t_req[-1] > last + t_sample - 1e-9:
+    t_end = log.t_contact + sensing.sensing_time
+    # contact may be intermittent (the undamped robot bounces); it has *ended* when the robot
+    # does not touch the beams again at or after the end of the window (within the lookahead)
+    if log.outcome == "fell" and log.t[-1] < t_end + 1e-9 or last < t_end - 1e-9:
         raise ValueError(
             f"sensing_time = {sensing.sensing_time} s is longer than the contact lasts "
-            f"({duration:.3f} s, outcome {log.outcome!r}); use a window <= {duration:.3f} s")
+            f"({duration:.3f} s after first contact, outcome {log.outcome!r}); "
+            f"use a window <= {duration:.3f} s or a propulsion that keeps the robot on the beams")
+    i_end = int(np.searchsorted(log.t, t_end - 1e-9))
+    log = SimLog(log.t[:i_end + 1], log.q[:i_end + 1], log.v[:i_end + 1], log.u[:i_end + 1],
+                 log.force[:i_end + 1], log.theta[:i_end + 1], log.t_contact, "stopped")
+    t_req = log.t_contact + np.arange(1, n_samples + 1) * t_sample
     idx = np.searchsorted(log.t, t_req - 1e-9)
     return SensingData(log.t[idx], log.q[idx], log.force[idx], log.force[idx].copy(), log.t_contact,
-                       (log.q[-1], log.v[-1]), float(duration))
+                       (log.q[-1], log.v[-1]), float(duration), log)
 
 
 # --------------------------------------------------------------------------- tabulated model

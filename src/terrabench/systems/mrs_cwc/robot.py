@@ -43,14 +43,19 @@ class ChainConfig:
         wheel_radius: (m).  wheel_width: (m).  wheel_mass: each (kg).
         track_half: lateral offset of each wheel (m).  axle_drop: axle below body centre (m).
         wheel_friction: effective wheel-ground friction (Bullet multiplies the pair's 1.0 and 2.0).
-        wheel_kv: velocity-servo gain of the wheel motors (N m s/rad).
-        wheel_torque_limit: (N m).
+        wheel_kv: velocity-servo gain of the wheel motors (N m s/rad); 100/1.5 makes the
+            stall torque at the nominal 1.5 rad/s equal to the 100 N m limit.
+        wheel_torque_limit: (N m); enforced by the trial loop on the commanded speed error
+            (a hard clamp inside MuJoCo turns the 0.002 kg m^2 wheels into a bang-bang
+            oscillator: 100 N m x 5 ms / 0.002 kg m^2 = 250 rad/s per step).
         bumper_radius, bumper_thickness, bumper_mass, bumper_ahead, bumper_up: the leader's disc.
         link_mass_spring: each of the two link masses of the spring variant (kg).
         link_mass_motor: the link mass of the motor variant (kg).
         k_pitch: pitch spring (N m/rad).  k_roll: roll spring (N m/rad).
         k_yaw_init: yaw stiffness at t = 0 (N m/rad).
-        yaw_kp: position gain of the MJ yaw servo (N m/rad); large = "effectively unlimited torque".
+        yaw_kp: position gain of the MJ yaw servo (N m/rad). Torque is unlimited, but the
+            gain must stay below 100 N m/rad: the compliance term (command - tau/100) closes a
+            loop of gain yaw_kp/100 at the control rate, which oscillates above 1.
         yaw_kv: damping of the MJ yaw servo (N m s/rad).
     """
 
@@ -68,7 +73,7 @@ class ChainConfig:
     track_half: float = 0.06
     axle_drop: float = 0.025
     wheel_friction: float = 2.0
-    wheel_kv: float = 50.0
+    wheel_kv: float = 100.0 / 1.5
     wheel_torque_limit: float = 100.0
     bumper_radius: float = 0.09
     bumper_thickness: float = 0.02
@@ -80,8 +85,8 @@ class ChainConfig:
     k_pitch: float = 15.0
     k_roll: float = 30.0
     k_yaw_init: float = 0.1
-    yaw_kp: float = 2000.0
-    yaw_kv: float = 20.0
+    yaw_kp: float = 50.0
+    yaw_kv: float = 5.0
 
 
 class Names:
@@ -220,8 +225,6 @@ def add_chain(
                 name=Names.motor(k, side),
                 target=Names.wheel(k, side),
                 trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                forcelimited=True,
-                forcerange=[-cfg.wheel_torque_limit, cfg.wheel_torque_limit],
             )
             act.set_to_velocity(kv=cfg.wheel_kv)
     _add_sensors(spec, variant, cfg)

@@ -127,6 +127,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
     yaw_joints, yaw_servos, yaw_dofs = sc.yaw_joints, sc.yaw_servos, sc.yaw_dofs
     has_servo = len(yaw_servos) > 0
     jnt_stiffness = m.jnt_stiffness
+    err_max = cfg.chain.wheel_torque_limit / cfg.chain.wheel_kv
     tx, ty = pr.target_xy
     thr2 = pr.success_threshold**2
     energy = 0.0
@@ -151,7 +152,8 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
         if k == n_max - 1:
             break
         body(obs, guidance.heading(obs), cmd)
-        ctrl[wheel_act] = cmd.wheel_speed
+        # the drive's torque limit, applied to the speed error the servo sees
+        ctrl[wheel_act] = np.clip(cmd.wheel_speed, wheel_speed - err_max, wheel_speed + err_max)
         if cmd.yaw_stiffness is not None:
             jnt_stiffness[yaw_joints] = cmd.yaw_stiffness
             k_log[k] = cmd.yaw_stiffness

@@ -1,0 +1,118 @@
+"""The chain model and whole trials: pinned counts, physics, protocol, determinism."""
+
+import math
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+import pytest
+
+from terrabench.config import override
+from terrabench.systems.mrs_cwc import trial
+from terrabench.systems.mrs_cwc.config import MRSConfig
+from terrabench.systems.mrs_cwc.methods import METHODS, get_method
+from terrabench.systems.mrs_cwc.robot import ChainConfig, add_chain
+from terrabench.terrain import dataset
+
+# variant -> (nq, nv, nu, nbody): pinned so a model change is a deliberate one
+PINNED = {"spring": (34, 33, 12, 30), "motor": (29, 28, 17, 25), "none": (54, 48, 12, 20)}
+
+
+def build(variant):
+    spec = mujoco.MjSpec()
+    add_chain(spec, variant, (0, 0, 1.0))
+    return spec.compile()
+
+
+@pytest.mark.parametrize("variant", sorted(PINNED))
+def test_model_counts_are_pinned(variant):
+    m = build(variant)
+    assert (m.nq, m.nv, m.nu, m.nbody) == PINNED[variant]
+
+
+def test_masses_follow_the_spec():
+    cfg = ChainConfig()
+    unit = cfg.body_mass + 2 * cfg.wheel_mass
+    m = build("spring")
+    assert m.body_subtreemass[0] == pytest.approx(6 * unit + cfg.bumper_mass + 5 * 2 * 0.4)
+    m = build("motor")
+    assert m.body_subtreemass[0] == pytest.approx(6 * unit + cfg.bumper_mass + 5 * 1.3)
+    m = build("none")
+    assert m.body_subtreemass[0] == pytest.approx(6 * unit + cfg.bumper_mass)
+
+
+def test_centre_of_mass_sits_below_the_wheel_axles():
+    m = build("none")
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    unit1 = m.body("unit1").id
+    # the unit's own body (not its wheels) has its CoM 0.10 m below the capsule centre
+    assert d.xipos[unit1][2] == pytest.approx(1.0 - 0.10)
+
+
+@pytest.mark.parametrize("mid", list(METHODS))
+def test_every_method_runs_two_seconds_without_trouble(mid, flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.timeout": 2.0})
+    status, metrics, series, info = trial.run(get_method(mid), flat_terrain, cfg)
+    assert status == "timeout" and info["control_steps"] == 80
+    assert list(series) == list(trial.TIMESERIES)
+    assert np.all(np.diff(series["energy"]) >= 0) and metrics["energy"] > 0
+
+
+def test_flat_straight_run_reaches_the_target_with_nef_near_one(flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.target_xy": [3.0, 0.0], "protocol.timeout": 60.0})
+    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    assert status == "success"
+    assert m["NCR"] == 1.0
+    # the 0.5 m drop at the start adds ~0.5 m to a ~2.5 m journey
+    assert m["NEF"] == pytest.approx(3.0 / (2.5 + 0.5), rel=0.05)
+    # nominal speed 1.5 rad/s x 0.05 m = 0.075 m/s: 2.5 m take ~33 s
+    assert m["sim_time"] == pytest.approx(2.5 / 0.075, rel=0.1)
+    assert abs(series["y"]).max() < 0.05
+
+
+def test_the_yaw_stiffness_reaches_the_model_and_bends_follow_the_law(flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.target_xy": [0.0, 5.0], "protocol.timeout": 20.0})
+    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    k = series["K"][np.isfinite(series["K"])]
+    assert k[0] == pytest.approx(0.03 * 5 + 0.97 * 0.1, rel=1e-6)
+    assert np.all((k > 0) & (k <= 100))
+    # target to the left: the leader turns toward +y
+    assert series["y"][-1] > 0.1
+
+
+def test_same_spec_same_numbers(flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.timeout": 5.0})
+    a = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
+    b = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
+    assert a[1] == b[1]
+    for k in a[2]:
+        np.testing.assert_array_equal(a[2][k], b[2][k])
+
+
+def test_instability_ends_the_trial_as_diverged(flat_terrain):
+    # any speed above 0.01 is declared a blow-up: the wheels spin at 1.5 rad/s within a second
+    cfg = override(MRSConfig(), {"physics.max_speed": 0.01, "protocol.timeout": 5.0})
+    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    assert status == "diverged" and "speed" in info["reason"]
+
+
+def test_start_is_dropped_above_the_sampled_terrain():
+    t = dataset.get("B-03")
+    sc = trial.build_scene(t, get_method("cwc-tdt"), MRSConfig())
+    from terrabench.terrain import sine_sum
+
+    xs = np.array(MRSConfig().protocol.drop_probe_x)
+    expect = sine_sum.point_height(t.params, xs, np.zeros_like(xs)).max() + 0.5
+    assert sc.start_z == pytest.approx(expect)
+    assert sc.data.body("unit0").xpos[2] == pytest.approx(expect)
+
+
+def test_control_period_must_be_whole_physics_steps():
+    with pytest.raises(ValueError, match="whole number of physics steps"):
+        override(MRSConfig(), {"physics.timestep": 0.01})
+
+
+def test_bad_timeout_is_rejected():
+    with pytest.raises(ValueError, match="timeout must be positive"):
+        override(MRSConfig(), {"protocol.timeout": 0})

@@ -30,11 +30,11 @@ class PhysicsConfig:
     """
 
     timestep: float = 0.005
-    integrator: str = "implicitfast"
+    integrator: str = "implicit"
     solver: str = "newton"
     iterations: int = 50
     gravity: float = -9.81
-    max_speed: float = 200.0
+    max_speed: float = 1000.0
 
     def __post_init__(self) -> None:
         if not self.timestep > 0:

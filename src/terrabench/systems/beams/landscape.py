@@ -42,6 +42,10 @@ class LandscapeConfig:
     def __post_init__(self) -> None:
         if not (self.x_max > self.x_min and self.dx > 0 and self.dangle_deg > 0 and self.angle_max_deg > 0):
             raise ValueError(f"invalid landscape grid {self}")
+        ratio = self.angle_max_deg / self.dangle_deg
+        if abs(ratio - round(ratio)) > 1e-9:
+            raise ValueError(f"dangle_deg = {self.dangle_deg} must divide angle_max_deg = {self.angle_max_deg} "
+                             "so that the level pose (0, 0) is a grid node")
 
     @property
     def xs(self) -> np.ndarray:

@@ -12,6 +12,7 @@ from terrabench.systems.mrs_cwc.control import (
     StiffnessLawConfig,
     WaypointConfig,
 )
+from terrabench.systems.mrs_cwc.planner import PlannerConfig
 from terrabench.systems.mrs_cwc.robot import ChainConfig
 
 WAYPOINT_SOURCES = ("released", "planner")
@@ -71,6 +72,7 @@ class MRSConfig:
         follow: D control.
         waypoints: A* waypoint following.
         waypoint_source: ``"released"`` (the benchmark's CSV) or ``"planner"`` (our A*).
+        planner: cost terms of our A* planner.
     """
 
     physics: PhysicsConfig = field(default_factory=PhysicsConfig)
@@ -82,6 +84,7 @@ class MRSConfig:
     follow: FollowConfig = field(default_factory=FollowConfig)
     waypoints: WaypointConfig = field(default_factory=WaypointConfig)
     waypoint_source: str = "released"
+    planner: PlannerConfig = field(default_factory=PlannerConfig)
 
     def __post_init__(self) -> None:
         if self.waypoint_source not in WAYPOINT_SOURCES:

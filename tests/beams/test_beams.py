@@ -1,0 +1,230 @@
+"""Physics and contract tests of the beam-traversal system (fast; long runs are marked slow)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from terrabench.benchmark.trial import STATUSES, TrialSpec
+from terrabench.systems.beams import SYSTEM, register
+from terrabench.systems.beams.control import energy_cost
+from terrabench.systems.beams.estimation import (EstimatorConfig, SensingConfig, estimate, nelder_mead_batch,
+                                                 sense, sense_clean)
+from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, RobotParams, _quad_form,
+                                            contact_scalar, critical_stiffness, deflection_vec,
+                                            generalized_forces, potential_energy, simulate)
+from terrabench.systems.beams.scenarios import TrialConfig
+
+ROBOT, LAYOUT = RobotParams(), BeamLayout()
+POSES = [(-0.05, 0.0, 0.0), (-0.03, 0.2, 0.3), (0.0, 0.1, 0.5), (0.05, -0.3, 0.2), (-0.02, 0.4, -0.1)]
+
+
+@pytest.fixture(autouse=True)
+def _tmp_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("TERRABENCH_CACHE", str(tmp_path))
+
+
+def zero(t, q, v, c):
+    return (0.0, 0.0, 0.0)
+
+
+def test_no_contact_constant_speed():
+    log = simulate(ModelConfig(), (-0.5, 0.0, 0.0), (0.05, 0.0, 0.0), 1.0, zero)
+    assert math.isnan(log.t_contact)
+    np.testing.assert_allclose(log.v[:, 0], 0.05, atol=1e-12)
+    np.testing.assert_allclose(log.q[-1, 0], -0.5 + 0.05 * log.t[-1], atol=1e-9)
+    assert np.all(log.force == 0)
+
+
+@pytest.mark.parametrize("q", POSES)
+def test_contact_force_along_normal_and_on_surface(q):
+    Q = _quad_form(q[1], q[2], ROBOT)[0]
+    qm = np.array([[Q[0], Q[1], Q[2]], [Q[1], Q[3], Q[4]], [Q[2], Q[4], Q[5]]])
+    for i in range(2):
+        cs = contact_scalar(q, Beam(0.25), i, ROBOT, LAYOUT)
+        assert cs.in_contact and cs.theta > 0
+        r = np.array(cs.point) - np.array([q[0], 0.0, ROBOT.height])
+        assert r @ qm @ r == pytest.approx(1.0, abs=1e-8)  # contact point on the ellipsoid
+        n = qm @ r  # eq. 5 in the world frame
+        f = np.array(cs.force)
+        cos = -f @ n / (np.linalg.norm(f) * np.linalg.norm(n))
+        assert cos == pytest.approx(1.0, abs=1e-9)  # pushes into the robot along the normal
+
+
+def test_zero_force_when_not_touching():
+    for q in [(-0.2, 0.0, 0.0), (-0.03, math.radians(60), 0.0)]:
+        for i in range(2):
+            cs = contact_scalar(q, Beam(0.25), i, ROBOT, LAYOUT)
+            assert not cs.in_contact and cs.theta == 0 and cs.force == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("q", POSES)
+def test_beam_torque_equilibrium(q):
+    for i, k in enumerate((0.25, 0.01)):
+        cs = contact_scalar(q, Beam(k), i, ROBOT, LAYOUT)
+        hinge = np.array([0.0, cs.point[1], 0.0])
+        torque = np.cross(np.array(cs.point) - hinge, -np.array(cs.force))[1]  # force on the beam
+        assert torque == pytest.approx(k * cs.theta, rel=1e-9)  # eq. 4
+
+
+@pytest.mark.parametrize("q", POSES)
+def test_contact_forces_are_energy_gradient(q):
+    beams = (Beam(0.25, 0.002), Beam(0.27))
+    cs = [contact_scalar(q, b, i, ROBOT, LAYOUT) for i, b in enumerate(beams)]
+    gen = np.array(generalized_forces(q, cs, ROBOT))
+    h = 1e-6
+    grad = []
+    for j in range(3):
+        dq = np.zeros(3)
+        dq[j] = h
+        grad.append((potential_energy(np.add(q, dq), beams, ROBOT, LAYOUT)
+                     - potential_energy(np.subtract(q, dq), beams, ROBOT, LAYOUT)) / (2 * h))
+    np.testing.assert_allclose(gen, -np.array(grad), rtol=1e-4, atol=1e-7)
+
+
+def test_scalar_and_vectorised_deflection_agree():
+    for q in POSES:
+        for i in range(2):
+            ts = contact_scalar(q, Beam(0.1, 0.003), i, ROBOT, LAYOUT).theta
+            tv = float(deflection_vec(q[0], q[1], q[2], 0.003, i, ROBOT, LAYOUT))
+            assert ts == pytest.approx(tv, abs=1e-9)
+
+
+def test_energy_conserved_without_inputs():
+    cfg = ModelConfig()
+    log = simulate(cfg, (-0.08, 0.1, 0.05), (0.05, 0.0, 0.0), 1.5, zero)
+    r = cfg.robot
+    e = [0.5 * r.mass * v[0] ** 2 + 0.5 * r.inertia[0] * v[1] ** 2 + 0.5 * r.inertia[1] * v[2] ** 2
+         + potential_energy(q, cfg.beams, r, cfg.layout) for q, v in zip(log.q[::250], log.v[::250])]
+    assert not math.isnan(log.t_contact)
+    kinetic0 = 0.5 * r.mass * 0.05 ** 2  # the energy that is exchanged with the springs
+    assert np.ptp(e) < 0.01 * kinetic0
+
+
+def test_energy_cost_nonnegative_and_positive_power_only():
+    rng = np.random.default_rng(0)
+    u, v = rng.normal(size=(100, 3)), rng.normal(size=(100, 3))
+    e = energy_cost(u, v, 0.002)
+    assert e >= 0
+    assert e == pytest.approx(np.clip(u * v, 0, None).sum() * 0.002)
+    assert energy_cost(u, -v, 0.002) + e == pytest.approx(np.abs(u * v).sum() * 0.002)
+
+
+def test_critical_stiffness():
+    assert critical_stiffness() == pytest.approx(0.028, abs=5e-4)
+
+
+@pytest.mark.parametrize("n", [4, 3, 2])
+def test_noise_free_estimation_recovers_truth(n):
+    cfg = ModelConfig()
+    clean = sense_clean(cfg, SensingConfig(sensing_time=0.1))
+    rng = np.random.default_rng(3)
+    data = sense(cfg, SensingConfig(sensing_time=0.1, sigma=0.0), rng, clean)
+    est = estimate(data, cfg, EstimatorConfig(n_unknowns=n, n_starts=30), rng)
+    assert est.params["k1"] == pytest.approx(0.25, rel=2e-3)
+    assert est.params["k2"] == pytest.approx(0.27, rel=2e-3)
+    assert abs(est.params["hb1"]) < 2e-5 and abs(est.params["hb2"]) < 2e-5
+
+
+def test_nelder_mead_batch_finds_minimum():
+    def f(p):
+        return (p[:, 0] - 1) ** 2 + 10 * (p[:, 1] + 2) ** 2
+    xb, fb, _ = nelder_mead_batch(f, np.random.default_rng(0).uniform(-5, 5, (8, 2)), 400, 1e-8, 1e-12)
+    np.testing.assert_allclose(xb, np.tile([1.0, -2.0], (8, 1)), atol=1e-4)
+
+
+def _quick_spec(seed=0, **kw):
+    cfg = TrialConfig(kind="estimation", sensing_time=0.1, n_starts=20, n_unknowns=3, sigma=0.2, **kw)
+    return TrialSpec("beams", "beams/estimation-v1", "estimate-3", "sigma20-ts100", seed, cfg.to_dict())
+
+
+def test_run_trial_deterministic_with_seed():
+    a, b, c = SYSTEM.run_trial(_quick_spec(1)), SYSTEM.run_trial(_quick_spec(1)), SYSTEM.run_trial(_quick_spec(2))
+    assert a.status == "done" and a.status in STATUSES
+    assert a.metrics == {**b.metrics, "estimate_time_s": a.metrics["estimate_time_s"]}
+    assert a.metrics["k1_hat"] != c.metrics["k1_hat"]
+    for k in ("t", "fx", "fx_clean"):
+        np.testing.assert_array_equal(a.timeseries[k], b.timeseries[k])
+
+
+@pytest.mark.parametrize("make", [
+    lambda: Beam(k=-0.1),
+    lambda: RobotParams(mass=-0.2),
+    lambda: SensingConfig(sigma=-0.05),
+    lambda: TrialConfig(k1=-1.0),
+    lambda: TrialConfig(mass=0.0),
+    lambda: TrialConfig(sigma=-0.1),
+    lambda: EstimatorConfig(n_unknowns=5),
+])
+def test_bad_parameters_raise(make):
+    with pytest.raises(ValueError):
+        make()
+
+
+def test_window_longer_than_contact_raises():
+    cfg = ModelConfig(beams=(Beam(0.01), Beam(0.01)))  # 1 N pushes over flimsy beams in ~0.26 s
+    with pytest.raises(ValueError, match="longer than the contact lasts"):
+        sense_clean(cfg, SensingConfig(sensing_time=0.6, push_force=1.0))
+
+
+def test_untouched_beams_raise():
+    cfg = ModelConfig(layout=BeamLayout(gap=0.3))
+    with pytest.raises(ValueError, match="never touched"):
+        sense_clean(cfg, SensingConfig(sensing_time=0.1, max_approach_time=3.0))
+
+
+def test_bad_trial_is_an_error_row_and_bad_ids_raise():
+    spec = _quick_spec()
+    bad = TrialSpec(spec.system, spec.scenario, spec.method, spec.instance, 0, {**spec.config, "sigma": -1.0})
+    assert SYSTEM.run_trial(bad).status == "error"
+    for kw in ({"group": "nope"}, {"methods": ["nope"]}, {"instances": ["nope"]}, {"overrides": {"nope": 1}}):
+        with pytest.raises(ValueError):
+            SYSTEM.plan(seeds=1, **kw)
+
+
+def test_plan_and_registry():
+    from terrabench.registry import Registry
+    reg = Registry()
+    register(reg)
+    assert reg.get("system", "beams").load() is SYSTEM
+    assert "beams/estimation-v1" in reg.ids("scenario", "beams")
+    assert {"interact", "avoid", "estimate-4"} <= set(reg.ids("method", "beams"))
+    specs = SYSTEM.plan(group="estimation", seeds=3)
+    assert len(specs) == 3 * 7 * 3 and len({s.key for s in specs}) == len(specs)
+    assert len(SYSTEM.plan(group="traversal", instances=["stiff"], seeds=2)) == 3  # 2 interact + 1 avoid
+    s = SYSTEM.plan(group="open-loop", overrides={"beams.dt": 1e-4})[0]
+    assert s.config["dt"] == 1e-4
+
+
+def test_landscape_and_avoid_plan_is_contact_free():
+    from terrabench.systems.beams.landscape import LandscapeConfig, build_landscape
+    from terrabench.systems.beams.planning import plan_path, PlannerConfig
+    grid = LandscapeConfig(dx=0.004, dangle_deg=3.0)
+    ls = build_landscape((Beam(0.25), Beam(0.27)), grid=grid)
+    mid = grid.angles.size // 2
+    assert ls.energy[0, mid, mid] == pytest.approx(ROBOT.mass * 9.81 * (ROBOT.height - ROBOT.h_c))
+    assert ls.energy.min() >= ls.energy[0, mid, mid] - 1e-12  # level pose is the global minimum
+    np.testing.assert_allclose(ls.theta[1], ls.theta[0][:, ::-1, :])  # mirror symmetry
+    plan = plan_path(ls, (-0.08, 0.0, 0.0), PlannerConfig(forbid_contact=True))
+    idx = [ls.index(p) for p in plan.path]
+    assert not any(ls.contact_mask()[i] for i in idx)
+    assert plan.mode == "roll" and plan.path[-1][0] == pytest.approx(0.12)
+    assert np.all(np.abs(np.diff(np.array(idx), axis=0)).sum(axis=1) == 1)  # six-neighbour moves
+
+
+def test_open_loop_flimsy_push_traverses():
+    spec = SYSTEM.plan(group="open-loop", instances=["flimsy-f1"])[0]
+    res = SYSTEM.run_trial(spec)
+    assert res.status == "success"
+
+
+@pytest.mark.slow
+def test_interact_traversal_succeeds():
+    for inst in ("stiff", "flimsy"):
+        spec = SYSTEM.plan(group="traversal", instances=[inst], methods=["interact"], seeds=1)[0]
+        res = SYSTEM.run_trial(spec)
+        assert res.status == "success", res.info
+        assert res.metrics["energy_mJ"] > 0

@@ -1,0 +1,78 @@
+"""The command line: listings, bad input handling, terrain commands, a tiny run."""
+
+import pytest
+from typer.testing import CliRunner
+
+from terrabench.cli import app
+
+runner = CliRunner()
+
+
+def invoke(*args):
+    return runner.invoke(app, list(args))
+
+
+def test_list_shows_systems_scenarios_and_every_method():
+    r = invoke("list")
+    assert r.exit_code == 0
+    for word in ("mrs-cwc", "mrs-cwc/benchmark-v1", "cwc-tdt", "d-astar"):
+        assert word in r.output
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (["run", "mrs-cwc", "--terrains", "C-99"], "unknown terrain id 'C-99'"),
+        (["run", "mrs-cwc", "--group", "Q"], "valid: A, B, all"),
+        (["run", "mrs-cwc", "--methods", "cwc-magic"], "valid: cwc-tdt"),
+        (["run", "mrs-cwc", "--backend", "slurm"], "valid: local, ray"),
+        (["run", "mrs-cwc", "--timeout", "0"], "--timeout must be positive"),
+        (["run", "mrs-cwc", "--timeout", "-5"], "--timeout must be positive"),
+        (["run", "nosuch"], "valid: mrs-cwc"),
+        (["run", "mrs-cwc", "--set", "physics.nope=1"], "unknown config key 'physics.nope'"),
+        (["terrain", "show", "Z-1"], "unknown terrain id"),
+        (["report", "mrs-cwc", "--store", "/nonexistent/x.duckdb"], "results file not found"),
+    ],
+)
+def test_bad_input_gives_one_clear_line_and_exit_2(args, needle, tmp_path):
+    r = invoke(*args, *(["--store", str(tmp_path / "s.duckdb")] if args[0] == "run" else []))
+    assert r.exit_code == 2, r.output
+    assert needle in r.output.replace("\n", "")
+    assert "Traceback" not in r.output
+
+
+def test_bad_store_version_is_refused_without_touching_it(tmp_path):
+    import duckdb
+
+    from terrabench.benchmark.store import ResultsStore
+
+    path = tmp_path / "s.duckdb"
+    ResultsStore(path).close()
+    con = duckdb.connect(str(path))
+    con.execute("UPDATE meta SET value='99' WHERE name='schema_version'")
+    con.close()
+    before = path.read_bytes()
+    r = invoke("run", "mrs-cwc", "--terrains", "A-01", "--timeout", "1", "--store", str(path))
+    assert r.exit_code == 2 and "schema version 99" in r.output.replace("\n", "")
+    assert path.read_bytes() == before
+
+
+def test_terrain_stats_and_show(tmp_path):
+    r = invoke("terrain", "stats", "--group", "B")
+    assert r.exit_code == 0 and "B-50" in r.output and "A-01" not in r.output
+    out = tmp_path / "b07.png"
+    r = invoke("terrain", "show", "B-07", "--out", str(out), "--store", str(tmp_path / "none.duckdb"))
+    assert r.exit_code == 0 and out.stat().st_size > 10_000
+
+
+def test_a_tiny_run_prints_trials_and_the_paper_row_then_resumes(tmp_path):
+    store = str(tmp_path / "s.duckdb")
+    args = ["run", "mrs-cwc", "--terrains", "A-01,B-01", "--timeout", "1", "--workers", "1", "--store", store]
+    r = invoke(*args)
+    assert r.exit_code == 0, r.output
+    assert "A-01" in r.output and "(96.0)" in r.output and "(74.0)" in r.output
+    r = invoke(*args)
+    assert "2 already stored, 0 run" in r.output.replace("\n", " ")
+    out = tmp_path / "a01.png"
+    r = invoke("terrain", "show", "A-01", "--out", str(out), "--store", store)
+    assert r.exit_code == 0 and "1 stored path" in r.output.replace("\n", " ")

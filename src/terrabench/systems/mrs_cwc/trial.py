@@ -133,6 +133,9 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
     energy = 0.0
     status, reason = "timeout", "time limit reached"
     k = 0
+    engine_time = 0.0
+    clock = time.perf_counter
+    loop0 = clock()
     while True:
         obs.refresh()
         p = obs.pos[0]
@@ -164,8 +167,11 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
         if has_servo:
             power += np.abs(obs.yaw_torque * obs.yaw_speed).sum()
         energy += period * power
+        t_in = clock()
         mujoco.mj_step(m, d, nsub)
+        engine_time += clock() - t_in
         k += 1
+    loop_time = clock() - loop0
 
     n = k + 1
     metrics = navigation_metrics(xyz[:n], pr.target_xy, pr.start_xy, energy, pr.success_threshold)
@@ -190,5 +196,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
         "control_steps": k,
         "physics_steps": k * nsub,
         "wall_time": time.perf_counter() - wall0,
+        "loop_time": loop_time,
+        "engine_time": engine_time,
     }
     return status, metrics, series, info

@@ -30,7 +30,7 @@ class PhysicsConfig:
     """
 
     timestep: float = 0.005
-    integrator: str = "implicit"
+    integrator: str = "implicitfast"
     solver: str = "newton"
     iterations: int = 50
     gravity: float = -9.81

@@ -53,6 +53,10 @@ class ChainConfig:
         link_mass_motor: the link mass of the motor variant (kg).
         k_pitch: pitch spring (N m/rad).  k_roll: roll spring (N m/rad).
         k_yaw_init: yaw stiffness at t = 0 (N m/rad).
+        link_damping: viscous damping of every link hinge (N m s/rad). The released scenes
+            say 0, but Bullet's constraint solver dissipates; with exactly 0 in MuJoCo a chain
+            tumbling in free flight after the drop gains energy until it blows up
+            (docs/assumptions.md). 0.5 gives the K = 5 yaw mode a damping ratio below 0.2.
         yaw_kp: position gain of the MJ yaw servo (N m/rad). Torque is unlimited, but the
             gain must stay below 100 N m/rad: the compliance term (command - tau/100) closes a
             loop of gain yaw_kp/100 at the control rate, which oscillates above 1.
@@ -85,6 +89,7 @@ class ChainConfig:
     k_pitch: float = 15.0
     k_roll: float = 30.0
     k_yaw_init: float = 0.1
+    link_damping: float = 0.5
     yaw_kp: float = 50.0
     yaw_kv: float = 5.0
 
@@ -173,8 +178,9 @@ def _small_mass(body: mujoco.MjsBody, mass: float) -> None:
     body.inertia = [i, i, i]
 
 
-def _hinge(body: mujoco.MjsBody, name: str, axis, stiffness: float) -> None:
-    body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis), stiffness=stiffness)
+def _hinge(body: mujoco.MjsBody, name: str, axis, stiffness: float, damping: float) -> None:
+    j = body.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis), stiffness=stiffness)
+    j.damping = [damping, 0.0, 0.0]
 
 
 def add_chain(
@@ -200,18 +206,18 @@ def add_chain(
             yaw = parent.add_body(name=f"link{k}_a", pos=[-cfg.joint_offset, 0, 0])
             if variant == "spring":
                 _small_mass(yaw, cfg.link_mass_spring)
-                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, cfg.k_yaw_init)
+                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, cfg.k_yaw_init, cfg.link_damping)
                 pitch = yaw.add_body(name=f"link{k}_b")
                 _small_mass(pitch, cfg.link_mass_spring)
-                _hinge(pitch, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch)
+                _hinge(pitch, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch, cfg.link_damping)
                 child = _unit_body(pitch, k, (-rest, 0, 0), cfg, leader=False)
-                _hinge(child, Names.link_joint(k, "roll"), (1, 0, 0), cfg.k_roll)
+                _hinge(child, Names.link_joint(k, "roll"), (1, 0, 0), cfg.k_roll, cfg.link_damping)
                 child.joints[0].pos = [rest, 0, 0]
             else:
                 _small_mass(yaw, cfg.link_mass_motor)
-                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, 0.0)
+                _hinge(yaw, Names.link_joint(k, "yaw"), YAW_AXIS, 0.0, cfg.link_damping)
                 child = _unit_body(yaw, k, (-rest, 0, 0), cfg, leader=False)
-                _hinge(child, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch)
+                _hinge(child, Names.link_joint(k, "pitch"), (0, 1, 0), cfg.k_pitch, cfg.link_damping)
                 child.joints[0].pos = [rest, 0, 0]
                 spec.add_actuator(
                     name=Names.yaw_servo(k),

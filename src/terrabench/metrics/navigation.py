@@ -71,29 +71,36 @@ def group_summary(trials: Iterable[Mapping[str, float]]) -> dict[str, float]:
     """NSR (%), mean NCR (%), mean NEF, mean NEC (J/m) and counts over a group's trials.
 
     A trial that ended ``diverged`` or ``error`` still counts as a trial and as a failure;
-    its metrics enter the means if it has them. NaNs are left out of the means.
+    its metrics enter the means if it has them. NaNs are left out of the means, so each mean
+    also comes with ``n_NCR``, ``n_NEF``, ``n_NEC``: the number of trials behind it.
     """
     rows = list(trials)
     n = len(rows)
     if n == 0:
         return {"n": 0, "NSR": float("nan"), "NCR": float("nan"), "NEF": float("nan"), "NEC": float("nan")}
 
-    def mean(key: str) -> float:
+    def finite(key: str) -> np.ndarray:
         vals = np.array([r.get(key, float("nan")) for r in rows], float)
-        vals = vals[np.isfinite(vals)]
+        return vals[np.isfinite(vals)]
+
+    def mean(vals: np.ndarray) -> float:
         return float(vals.mean()) if len(vals) else float("nan")
 
     successes = sum(1 for r in rows if r.get("success", 0.0) == 1.0)
     lo, hi = wilson_interval(successes, n)
+    ncr, nef, nec = finite("NCR"), finite("NEF"), finite("NEC")
     return {
         "n": n,
         "successes": successes,
         "NSR": 100.0 * successes / n,
         "NSR_lo": 100.0 * lo,
         "NSR_hi": 100.0 * hi,
-        "NCR": 100.0 * mean("NCR"),
-        "NEF": mean("NEF"),
-        "NEC": mean("NEC"),
+        "NCR": 100.0 * mean(ncr),
+        "NEF": mean(nef),
+        "NEC": mean(nec),
+        "n_NCR": len(ncr),
+        "n_NEF": len(nef),
+        "n_NEC": len(nec),
     }
 
 

@@ -284,12 +284,16 @@ class FollowConfig:
     """D: follow the predecessor's position (spec section 4).
 
     Attributes:
-        bearing_gain: gain on the bearing error before the differential term.
+        bearing_gain: gain on the bearing error before the differential term. The spec says
+            10; in MuJoCo that makes every follower spin and race (the wheel torque swings
+            the body, whose centre of mass hangs only 0.075 m below the axle) and the trial
+            diverges within 12 s even on flat ground, so the default is 3 (stable on flat
+            ground and the benchmark terrains; docs/assumptions.md).
         speed_gain: wheel speed per metre of excess distance (rad/s/m).
         stop_distance: followers stop within this distance (m).
     """
 
-    bearing_gain: float = 10.0
+    bearing_gain: float = 3.0
     speed_gain: float = 5.0
     stop_distance: float = 0.1
 

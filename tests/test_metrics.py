@@ -59,6 +59,7 @@ def test_group_summary_counts_every_trial():
     s = group_summary(trials)
     assert s["n"] == 4 and s["NSR"] == 75.0
     assert s["NCR"] == pytest.approx(87.5) and s["NEF"] == pytest.approx(0.7) and s["NEC"] == pytest.approx(200.0)
+    assert (s["n_NCR"], s["n_NEF"], s["n_NEC"]) == (4, 4, 3)  # the NaN NEC is left out of its mean
     assert s["NSR_lo"] < 75.0 < s["NSR_hi"]
 
 

@@ -95,8 +95,7 @@ def simplify(points: np.ndarray, tolerance: float) -> np.ndarray:
 
 def polyline_deviation(a: np.ndarray, b: np.ndarray, samples: int = 400) -> float:
     """Mean distance from points sampled evenly along polyline ``a`` to polyline ``b`` (m)."""
-    pa = resample(a, samples)
-    return float(np.mean([_point_to_polyline(p, np.asarray(b, float)) for p in pa]))
+    return float(np.mean(_points_to_polyline(resample(a, samples), np.asarray(b, float))))
 
 
 def resample(poly: np.ndarray, n: int) -> np.ndarray:
@@ -109,10 +108,13 @@ def resample(poly: np.ndarray, n: int) -> np.ndarray:
     return np.column_stack([np.interp(t, s, poly[:, 0]), np.interp(t, s, poly[:, 1])])
 
 
-def _point_to_polyline(p: np.ndarray, poly: np.ndarray) -> float:
-    a, b = poly[:-1], poly[1:]
-    ab = b - a
+def _points_to_polyline(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Distance from each point, shape (n, 2), to the polyline ``poly`` (m, 2): shape (n,) (m)."""
+    if len(poly) == 1:
+        return np.hypot(*(pts - poly[0]).T)
+    a, ab = poly[:-1], np.diff(poly, axis=0)
     l2 = (ab**2).sum(axis=1)
-    t = np.clip(((p - a) * ab).sum(axis=1) / np.where(l2 == 0, 1, l2), 0, 1)
-    proj = a + t[:, None] * ab
-    return float(np.min(np.hypot(*(proj - p).T))) if len(poly) > 1 else float(np.hypot(*(poly[0] - p)))
+    rel = pts[:, None, :] - a[None]  # (n, segments, 2): all pairs at once, no Python loop
+    t = np.clip((rel * ab).sum(axis=-1) / np.where(l2 == 0, 1, l2), 0, 1)
+    off = rel - t[..., None] * ab
+    return np.hypot(off[..., 0], off[..., 1]).min(axis=1)

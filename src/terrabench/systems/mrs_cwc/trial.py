@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -76,18 +76,12 @@ def make_controller(method: Method, cfg: MRSConfig, terrain: dataset.Terrain):
     if method.body == "cwc":
         body: ctl.BodyLaw = ctl.CWCLaw(n, cfg.drive, cfg.stiffness)
     elif method.body == "cs":
-        body = ctl.CWCLaw(n, cfg.drive, _constant(cfg.stiffness))
+        body = ctl.CWCLaw(n, cfg.drive, replace(cfg.stiffness, mode="constant"))
     elif method.body == "mj":
         body = ctl.HeadFollowing(n, cfg.drive, cfg.head_following)
     else:
         body = ctl.FollowByPosition(n, cfg.drive, cfg.follow)
     return guidance, body
-
-
-def _constant(law: ctl.StiffnessLawConfig) -> ctl.StiffnessLawConfig:
-    from dataclasses import replace
-
-    return replace(law, mode="constant")
 
 
 def waypoints_for(terrain: dataset.Terrain, cfg: MRSConfig) -> np.ndarray:

@@ -1,0 +1,675 @@
+"""The MRS-CWC report, built only from stored trials (and the shipped terrain data).
+
+:func:`write_report` writes into ``out_dir``:
+
+- ``table_A.csv``, ``table_B.csv``: the paper's Tables II and III (NSR %, NCR %, NEF, NEC J/m),
+  our number beside the paper's, with the trials behind each cell, the 95 % Wilson CI of NSR
+  and the ``diverged``/``error`` counts (both counted as failures).
+- ``outcomes.png``, ``outcomes.csv``: every method on every terrain (colour = NCR, symbol =
+  how the trial ended); the CSV names the stored trial key of each cell.
+- ``fig5_group_A.png``, ``fig6_group_B.png``: analogues of the paper's Figs. 5 and 6: every
+  method's leader path on one terrain, and the MRS-CWC + TDT run's K(t) and |tau_env|(t).
+- ``astar_paths.csv`` (per group), ``astar_paths_terrains.csv`` (per terrain),
+  ``astar_paths.png``: our A* waypoints against the released ones; ``astar_sources.csv`` when
+  the store holds A* runs with both waypoint sources.
+- ``statuses.csv``: how trials ended, simulated and wall time, per method and group.
+- ``index.html``: all of the above on one static page, with the configs used.
+
+Only seed-0 rows enter the tables and figures (seed 0 is the released protocol exactly). A
+method whose seed-0 rows were run under more than one config appears once per config (a
+*variant*), labelled by the config keys that differ, so no table row mixes two configs.
+"""
+
+from __future__ import annotations
+
+import csv
+import datetime as _dt
+import html
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterable
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+from terrabench.benchmark.trial import STATUSES, canonical_json  # noqa: E402
+from terrabench.config import to_dict  # noqa: E402
+from terrabench.planning.astar import polyline_deviation  # noqa: E402
+from terrabench.report.terrain_plot import draw_terrain  # noqa: E402
+from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
+from terrabench.systems.mrs_cwc.methods import METHODS  # noqa: E402
+from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
+from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, TRIALS_PER_GROUP, paper_row  # noqa: E402
+from terrabench.systems.mrs_cwc.scenarios import summaries  # noqa: E402
+from terrabench.terrain import dataset  # noqa: E402
+
+#: The paper's table and figure for each terrain group.
+PAPER_TABLE = {"A": "Table II", "B": "Table III"}
+PATH_FIGURES = {"A": ("fig5_group_A.png", "Fig. 5"), "B": ("fig6_group_B.png", "Fig. 6")}
+#: Every file this module may write; ones a smaller store no longer produces are removed, so a
+#: report folder never shows figures from an earlier store.
+OUTPUTS = (
+    "index.html", "table_A.csv", "table_B.csv", "outcomes.png", "outcomes.csv",
+    "fig5_group_A.png", "fig6_group_B.png", "astar_paths.csv", "astar_paths_terrains.csv",
+    "astar_paths.png", "astar_sources.csv", "statuses.csv",
+)
+#: Beyond this relative difference an NCR/NEF/NEC cell is highlighted against the paper's.
+FAR_FROM_PAPER = 0.2
+_SOURCE_NAMES = {"planner": "our planner", "released": "released waypoints"}
+#: Trial endings drawn as symbols in the outcome matrix (a timeout is colour only).
+_MARKERS = {
+    "success": dict(marker="o", color="black", ms=3.5, ls=""),
+    "fell": dict(marker="v", color="black", ms=4, ls=""),
+    "stuck": dict(marker="s", color="black", ms=3, ls=""),
+    "diverged": dict(marker="D", color="magenta", mec="black", mew=0.4, ms=4.5, ls=""),
+    "error": dict(marker="X", color="red", mec="black", mew=0.4, ms=6, ls=""),
+}
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One table row: a method under one resolved config.
+
+    Attributes:
+        id: the method id when the method has one config in the store, else
+            ``"method@hash8"``.
+        method: method id, e.g. ``"cwc-astar"``.
+        config_hash: the trials' config hash (16 hex digits).
+        label: the paper's method name, plus the differing config values when the method has
+            several configs, e.g. ``"MRS-CWC + A* (our planner)"``.
+        config: the resolved config as stored (JSON dict).
+    """
+
+    id: str
+    method: str
+    config_hash: str
+    label: str
+    config: dict[str, Any]
+
+
+def write_report(store, out_dir: Path) -> Path:
+    """Write the MRS-CWC report from ``store``'s rows; returns the path of ``index.html``.
+
+    Args:
+        store: a :class:`~terrabench.benchmark.store.ResultsStore` (read only is enough).
+        out_dir: folder for the HTML page, PNG figures and CSV tables (created if missing).
+
+    Raises:
+        ValueError: the store holds no mrs-cwc trials.
+    """
+    rows = store.rows(system="mrs-cwc")
+    if not rows:
+        raise ValueError(f"no mrs-cwc trials in {store.path}; run `terrabench run mrs-cwc` first")
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rows0 = [r for r in rows if r["seed"] == 0]
+    variants = find_variants(rows0)
+    vid = {(v.method, v.config_hash): v.id for v in variants}
+    # summaries() groups by (method, group): give each row its variant id as the method
+    tagged = [{**r, "method": vid[(r["method"], r["config_hash"])]} for r in rows0]
+    summ = summaries(tagged)
+    cells = {(r["method"], r["instance"]): r for r in tagged}
+    terrain_ids = list(dataset.benchmark_terrains())
+    page = Page(out_dir)
+    page.p(f"{len(rows0)} seed-0 trials ({len(variants)} method/config variant(s)) from "
+           f"<code>{html.escape(str(store.path))}</code>; every number and figure below is computed from "
+           "these stored rows (the A* waypoint comparison from the shipped terrain data). Paper: Xiao et al., "
+           "MRS-CWC, Tables II/III and Figs. 5/6.")
+
+    page.h2("Tables II and III: ours beside the paper's")
+    page.p(
+        "Each cell: ours / the paper's (Table II or III of the paper, 50 terrains per group). "
+        "<i>n</i> = our trials in the row; a smaller count beside a mean means trials whose metric "
+        "was undefined (NaN, e.g. an <code>error</code> trial) are left out of it. "
+        "<code>diverged</code> and <code>error</code> trials count as failures in NSR. "
+        f"Highlighted: the paper's NSR outside our 95 % Wilson CI, or NCR/NEF/NEC more than "
+        f"{FAR_FROM_PAPER:.0%} from the paper's."
+    )
+    for group in dataset.GROUPS:
+        lines = group_table(variants, summ, group)
+        name = f"table_{group}.csv"
+        page.csv(name, lines, TABLE_COLUMNS)
+        page.h3(f"Group {group} ({PAPER_TABLE[group]} of the paper) <a href='{name}'>{name}</a>")
+        page.raw(_table_html(lines) if lines else _note(f"No stored seed-0 trials in group {group}."))
+
+    page.h2("Per-terrain outcomes")
+    page.csv("outcomes.csv", outcome_lines(variants, cells, terrain_ids), OUTCOME_COLUMNS)
+    if variants:
+        page.figure(outcome_figure(variants, cells, terrain_ids), "outcomes.png",
+                    "Every method (rows) on every terrain (columns): colour = NCR, symbol = how the trial ended "
+                    "(no symbol: timeout; grey: not run or no NCR). <a href='outcomes.csv'>outcomes.csv</a> gives "
+                    "the stored trial key of each cell.")
+    else:
+        page.raw(_note("No stored seed-0 trials: no outcome matrix."))
+
+    page.h2("Leader paths (analogues of the paper's Figs. 5 and 6)")
+    for group in dataset.GROUPS:
+        name, paper_fig = PATH_FIGURES[group]
+        gids = [t for t in terrain_ids if t[0] == group]
+        tid = pick_terrain(variants, cells, gids)
+        if tid is None:
+            page.raw(_note(f"No stored seed-0 trials in group {group}: no {paper_fig} analogue."))
+            continue
+        fig = path_figure(store, variants, cells, dataset.get(tid))
+        page.figure(fig, name, f"{paper_fig} analogue, group {group}: terrain {tid} (the group's terrain with the "
+                    "most stored methods, then the most varied outcomes). Top: leader paths; below: yaw "
+                    "stiffness K and |tau_env| of the MRS-CWC + TDT run, as stored (every protocol.log_period).")
+
+    page.h2("A* waypoints: our planner vs the released ones")
+    _astar_section(page, tagged, variants)
+
+    page.h2("How trials ended")
+    lines = status_lines(variants, tagged)
+    page.csv("statuses.csv", lines, STATUS_COLUMNS)
+    page.raw(_plain_table_html(lines, STATUS_COLUMNS) + " <a href='statuses.csv'>statuses.csv</a>")
+
+    page.h2("Provenance")
+    page.raw(_provenance_html(store, rows, rows0, variants))
+
+    return page.finish()
+
+
+# ------------------------------------------------------------------ variants and tables
+def find_variants(rows: list[dict[str, Any]]) -> list[Variant]:
+    """The (method, config) variants of ``rows``: methods in :data:`METHODS` order (unknown
+    ones last), within a method the config with the most trials first."""
+    by_method: dict[str, dict[str, dict[str, Any]]] = {}
+    counts: dict[tuple[str, str], int] = {}
+    for r in rows:
+        by_method.setdefault(r["method"], {}).setdefault(r["config_hash"], r["config"])
+        counts[(r["method"], r["config_hash"])] = counts.get((r["method"], r["config_hash"]), 0) + 1
+    order = {m: i for i, m in enumerate(METHODS)}
+    out = []
+    for mid in sorted(by_method, key=lambda m: (order.get(m, len(order)), m)):
+        configs = by_method[mid]
+        base = METHODS[mid].label if mid in METHODS else mid
+        hashes = sorted(configs, key=lambda h: (-counts[(mid, h)], h))
+        if len(hashes) == 1:
+            out.append(Variant(mid, mid, hashes[0], base, configs[hashes[0]]))
+            continue
+        flat = {h: _flatten(configs[h]) for h in hashes}
+        keys = sorted({k for f in flat.values() for k in f}, key=lambda k: (k != "waypoint_source", k))
+        differing = [k for k in keys if len({canonical_json(flat[h].get(k)) for h in hashes}) > 1]
+        labels = {h: f"{base} ({_describe(flat[h], differing)})" for h in hashes}
+        if len(set(labels.values())) < len(labels):  # the shown keys did not tell them apart
+            labels = {h: f"{label} [{h[:8]}]" for h, label in labels.items()}
+        out += [Variant(f"{mid}@{h[:8]}", mid, h, labels[h], configs[h]) for h in hashes]
+    return out
+
+
+def _flatten(cfg: dict[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Nested config dict -> ``{"protocol.timeout": 2.0, ...}``."""
+    out: dict[str, Any] = {}
+    for k, v in cfg.items():
+        if isinstance(v, dict):
+            out.update(_flatten(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
+def _describe(flat: dict[str, Any], keys: list[str], most: int = 3) -> str:
+    parts = [_SOURCE_NAMES.get(flat.get(k), str(flat.get(k))) if k == "waypoint_source" else f"{k}={flat.get(k)}"
+             for k in keys[:most]]
+    if len(keys) > most:
+        parts.append(f"+{len(keys) - most} more")
+    return ", ".join(parts)
+
+
+TABLE_COLUMNS = (
+    "group", "method", "label", "config_hash", "n", "n_paper",
+    "NSR", "NSR_lo", "NSR_hi", "NSR_paper",
+    "NCR", "n_NCR", "NCR_paper", "NEF", "n_NEF", "NEF_paper", "NEC", "n_NEC", "NEC_paper",
+    "diverged", "error",
+)
+
+
+def group_table(variants: list[Variant], summ: dict, group: str) -> list[dict[str, Any]]:
+    """One line per variant with trials in ``group``: ours beside the paper's (NSR, NCR in %)."""
+    lines = []
+    for v in variants:
+        s = summ.get((v.id, group))
+        if s is None:
+            continue
+        paper = paper_row(group, v.method) or {}
+        line: dict[str, Any] = {
+            "group": group, "method": v.method, "label": v.label, "config_hash": v.config_hash,
+            "n": s["n"], "n_paper": TRIALS_PER_GROUP if paper else None,
+            "NSR": s["NSR"], "NSR_lo": s["NSR_lo"], "NSR_hi": s["NSR_hi"], "NSR_paper": paper.get("NSR"),
+            "diverged": s["diverged"], "error": s["errors"],
+        }
+        for name in METRIC_NAMES[1:]:
+            line[name], line[f"n_{name}"], line[f"{name}_paper"] = s[name], s[f"n_{name}"], paper.get(name)
+        lines.append(line)
+    return lines
+
+
+def _far(line: dict[str, Any], name: str) -> bool:
+    """Whether our cell is far from the paper's (see :data:`FAR_FROM_PAPER`)."""
+    ours, paper = line[name], line[f"{name}_paper"]
+    if paper is None or not _finite(ours):
+        return False
+    if name == "NSR":
+        return not line["NSR_lo"] <= paper <= line["NSR_hi"]
+    return abs(ours - paper) > FAR_FROM_PAPER * abs(paper)
+
+
+_UNITS = ("%", "%", "", "J/m")  # of METRIC_NAMES
+
+
+def _table_html(lines: list[dict[str, Any]]) -> str:
+    head = ("<tr><th rowspan=2>method</th><th rowspan=2>config</th><th rowspan=2><i>n</i></th>"
+            + "".join(f"<th colspan={3 if m == 'NSR' else 2}>{m} {u}</th>" for m, u in zip(METRIC_NAMES, _UNITS))
+            + "<th rowspan=2>diverged</th><th rowspan=2>error</th></tr><tr>"
+            + "<th>ours</th><th>paper</th><th>95 % CI</th>" + "<th>ours</th><th>paper</th>" * 3 + "</tr>")
+    body = []
+    for ln in lines:
+        tds = [html.escape(ln["label"]), f"<a href='#cfg-{ln['config_hash']}'><code>{ln['config_hash'][:8]}</code></a>",
+               str(ln["n"])]
+        for name in METRIC_NAMES:
+            count = ln.get(f"n_{name}", ln["n"])
+            small = f" <small>({count})</small>" if count != ln["n"] else ""
+            cls = " class=far" if _far(ln, name) else ""
+            tds.append(f"<span{cls}>{_fmt(name, ln[name])}</span>{small}")
+            tds.append(_fmt(name, ln[f"{name}_paper"]))
+            if name == "NSR":
+                tds.append(f"{ln['NSR_lo']:.0f}-{ln['NSR_hi']:.0f}")
+        tds += [str(ln["diverged"]), str(ln["error"])]
+        body.append("<tr>" + "".join(f"<td>{t}</td>" for t in tds) + "</tr>")
+    return f"<table>{head}{''.join(body)}</table>"
+
+
+def _fmt(name: str, v: Any) -> str:
+    if not _finite(v):
+        return "-"
+    return f"{v:.3f}" if name == "NEF" else f"{v:.1f}"
+
+
+def _finite(v: Any) -> bool:
+    return isinstance(v, (int, float)) and math.isfinite(v)
+
+
+# ------------------------------------------------------------------ outcome matrix
+OUTCOME_COLUMNS = ("terrain", "group", "method", "label", "config_hash", "status", "NCR_pct", "d_min", "sim_time", "key")
+
+
+def outcome_lines(variants: list[Variant], cells: dict, terrain_ids: list[str]) -> list[dict[str, Any]]:
+    """One line per stored seed-0 trial, variants in table order, terrains in id order."""
+    lines = []
+    for v in variants:
+        for tid in terrain_ids:
+            r = cells.get((v.id, tid))
+            if r is not None:
+                m = r["metrics"]
+                lines.append({"terrain": tid, "group": tid[0], "method": v.method, "label": v.label,
+                              "config_hash": v.config_hash, "status": r["status"], "NCR_pct": 100.0 * m.get("NCR", np.nan),
+                              "d_min": m.get("d_min"), "sim_time": m.get("sim_time"), "key": r["key"]})
+    return lines
+
+
+def outcome_figure(variants: list[Variant], cells: dict, terrain_ids: list[str]):
+    """Heat map variants x terrains of NCR (%) with a symbol per trial ending."""
+    ncr = np.full((len(variants), len(terrain_ids)), np.nan)
+    marks: dict[str, list[tuple[int, int]]] = {s: [] for s in _MARKERS}
+    for i, v in enumerate(variants):
+        for j, tid in enumerate(terrain_ids):
+            r = cells.get((v.id, tid))
+            if r is None:
+                continue
+            ncr[i, j] = 100.0 * r["metrics"].get("NCR", np.nan)
+            if r["status"] in marks:
+                marks[r["status"]].append((i, j))
+    fig, ax = plt.subplots(figsize=(0.16 * len(terrain_ids) + 4, 0.42 * len(variants) + 2.4))
+    cmap = plt.get_cmap("RdYlGn").with_extremes(bad="0.85")
+    im = ax.imshow(np.ma.masked_invalid(ncr), cmap=cmap, vmin=0, vmax=100, aspect="auto", interpolation="nearest")
+    for status, ij in marks.items():
+        if ij:
+            i, j = np.array(ij).T
+            ax.plot(j, i, **_MARKERS[status])
+    # group boundary: the first column of each later group
+    for j in range(1, len(terrain_ids)):
+        if terrain_ids[j][0] != terrain_ids[j - 1][0]:
+            ax.axvline(j - 0.5, color="black", lw=1.5)
+    ax.set_xticks(range(len(terrain_ids)), terrain_ids, rotation=90, fontsize=6)
+    ax.set_yticks(range(len(variants)), [v.label for v in variants], fontsize=8)
+    fig.colorbar(im, ax=ax, label="NCR (%)", pad=0.01, fraction=0.02)
+    handles = [Line2D([], [], label=s, **kw) for s, kw in _MARKERS.items()]
+    handles += [Patch(facecolor="white", edgecolor="black", label="timeout: colour only"),
+                Patch(facecolor="0.85", edgecolor="black", label="not run / NCR undefined")]
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.28 if len(variants) < 6 else -0.12),
+              ncol=len(handles), fontsize=8, frameon=False)
+    ax.set_title("Outcome per terrain (seed 0)")
+    return fig
+
+
+# ------------------------------------------------------------------ Fig. 5/6 analogues
+def pick_terrain(variants: list[Variant], cells: dict, terrain_ids: list[str]) -> str | None:
+    """The terrain with the most stored variants, then the most distinct endings, then the
+    widest NCR spread; the lowest id on ties. ``None`` if no variant ran on any of them."""
+
+    def score(tid: str) -> tuple[int, int, float]:
+        rs = [cells[(v.id, tid)] for v in variants if (v.id, tid) in cells]
+        ncr = [r["metrics"].get("NCR", np.nan) for r in rs]
+        ncr = [x for x in ncr if _finite(x)]
+        return len(rs), len({r["status"] for r in rs}), (max(ncr) - min(ncr)) if ncr else 0.0
+
+    stored = [t for t in terrain_ids if any((v.id, t) in cells for v in variants)]
+    return max(stored, key=score) if stored else None
+
+
+def path_figure(store, variants: list[Variant], cells: dict, terrain):
+    """Leader paths of every stored variant on ``terrain``; K(t) and |tau_env|(t) of CWC + TDT."""
+    paths, cwc = {}, None
+    for v in variants:
+        r = cells.get((v.id, terrain.id))
+        if r is None:
+            continue
+        ts = store.timeseries(r["key"])  # only the drawn trials' series are read
+        if "x" in ts:
+            ncr = r["metrics"].get("NCR", np.nan)
+            paths[f"{v.label}: {r['status']}, NCR {100 * ncr:.0f} %"] = (ts["x"], ts["y"])
+        if v.method == "cwc-tdt" and cwc is None and "K" in ts:
+            cwc = (v, r, ts)
+    # the legend (start, target, one line per path) gets its own row so it hides no path
+    legend_h = 0.16 * math.ceil((len(paths) + 2) / 2)
+    fig = plt.figure(figsize=(8, 10.5 + legend_h))
+    gs = fig.add_gridspec(4, 1, height_ratios=(6.2, legend_h, 1.4, 1.4), hspace=0.3)
+    ax = fig.add_subplot(gs[0])
+    im = draw_terrain(ax, terrain, paths)
+    ax.get_legend().remove()
+    ax_leg = fig.add_subplot(gs[1])
+    ax_leg.axis("off")
+    ax_leg.legend(*ax.get_legend_handles_labels(), loc="center", ncol=2, fontsize=7, frameon=False)
+    # a diverged path may leave the map; keep the view on the terrain
+    x0, x1, y0, y1 = im.get_extent()
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax_k = fig.add_subplot(gs[2])
+    ax_t = fig.add_subplot(gs[3], sharex=ax_k)
+    if cwc is None:
+        ax_k.text(0.5, 0.5, f"no {METHODS['cwc-tdt'].label} trial stored on {terrain.id}", ha="center",
+                  va="center", transform=ax_k.transAxes)
+    else:
+        v, r, ts = cwc
+        law = r["config"].get("stiffness", {})
+        ax_k.plot(ts["t"], ts["K"], color="tab:blue")
+        ax_t.plot(ts["t"], np.abs(ts["tau_env"]), color="tab:red", lw=0.8)
+        for name, ls in (("latch_on", "--"), ("latch_off", ":")):
+            if name in law:
+                ax_t.axhline(law[name], color="black", ls=ls, lw=0.8, label=f"{name} = {law[name]:g} N m")
+        ax_t.legend(fontsize=7, loc="upper right")
+        ax_k.set_title(f"{v.label} on {terrain.id}: {r['status']} (trial {r['key']})", fontsize=9)
+    ax_k.set_ylabel("K (N m/rad)")
+    ax_t.set_ylabel("|tau_env| (N m)")
+    ax_t.set_xlabel("t (s)")
+    return fig
+
+
+# ------------------------------------------------------------------ A* waypoints
+ASTAR_TERRAIN_COLUMNS = ("terrain", "group", "deviation", "ours_to_released", "released_to_ours",
+                         "n_ours", "n_released", "length_ours", "length_released")
+ASTAR_GROUP_COLUMNS = ("group", "terrains", "mean", "median", "max", "max_terrain")
+SOURCE_COLUMNS = ("group", "method", "waypoint_source", "label", "config_hash", "terrains", "NSR", "NCR",
+                  "diverged", "error")
+
+
+def astar_comparison(cfg: MRSConfig) -> tuple[list[dict[str, Any]], dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """Our planner's waypoints vs the released ones on all 100 terrains.
+
+    Args:
+        cfg: the config whose ``planner``, ``protocol.start_xy`` and ``protocol.target_xy`` are used.
+
+    Returns:
+        Per-terrain lines (deviations in m: the mean distance from points along one polyline
+        to the other, each way, and their average) and ``{terrain id: (ours (n, 2), released
+        (m, 2))}`` waypoint arrays (m).
+    """
+    lines, waypoints = [], {}
+    for t in dataset.select(group="all"):
+        ours, released = plan_waypoints(t, cfg), dataset.released_waypoints(t.id)
+        a, b = polyline_deviation(ours, released), polyline_deviation(released, ours)
+        lines.append({"terrain": t.id, "group": t.group, "deviation": 0.5 * (a + b), "ours_to_released": a,
+                      "released_to_ours": b, "n_ours": len(ours), "n_released": len(released),
+                      "length_ours": _length(ours), "length_released": _length(released)})
+        waypoints[t.id] = (ours, released)
+    return lines, waypoints
+
+
+def _length(poly: np.ndarray) -> float:
+    return float(np.hypot(*np.diff(poly, axis=0).T).sum())
+
+
+def astar_group_lines(lines: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Mean, median and max deviation (m) per group."""
+    out = []
+    for group in dataset.GROUPS:
+        g = [ln for ln in lines if ln["group"] == group]
+        d = np.array([ln["deviation"] for ln in g])
+        worst = g[int(np.argmax(d))]
+        out.append({"group": group, "terrains": len(g), "mean": float(d.mean()), "median": float(np.median(d)),
+                    "max": float(d.max()), "max_terrain": worst["terrain"]})
+    return out
+
+
+def astar_figure(lines: list[dict[str, Any]], waypoints: dict[str, tuple[np.ndarray, np.ndarray]]):
+    """Per group the terrains of median and largest deviation: both waypoint polylines."""
+    shown = []
+    for group in dataset.GROUPS:
+        g = sorted((ln for ln in lines if ln["group"] == group), key=lambda ln: ln["deviation"])
+        shown += [(g[len(g) // 2], "median"), (g[-1], "largest")]
+    fig, axes = plt.subplots(2, 2, figsize=(13, 11))
+    for ax, (ln, which) in zip(axes.flat, shown):
+        ours, released = waypoints[ln["terrain"]]
+        draw_terrain(ax, dataset.get(ln["terrain"]), {"released waypoints": released.T, "our A* waypoints": ours.T})
+        for line in ax.lines[-2:]:  # the two polylines just drawn: mark their waypoints
+            line.set_marker("o")
+            line.set_markersize(3)
+        ax.set_title(f"{ax.get_title()}\n{which} deviation in group {ln['group']}: {ln['deviation']:.2f} m", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def source_lines(tagged: list[dict[str, Any]], variants: list[Variant]) -> list[dict[str, Any]]:
+    """A* methods stored with both waypoint sources: each variant's outcome on the terrains
+    that both sources ran (per group), so the two are compared trial for trial."""
+    source = {v.id: v.config.get("waypoint_source") for v in variants}
+    out = []
+    for mid in [m for m in METHODS if METHODS[m].guidance == "astar"]:
+        vs = [v for v in variants if v.method == mid]
+        sources = {source[v.id] for v in vs}
+        if len(sources) < 2:
+            continue
+        ids = {v.id for v in vs}
+        mine = [r for r in tagged if r["method"] in ids]
+        for group in dataset.GROUPS:
+            ran = [{r["instance"] for r in mine if r["instance"][0] == group and source[r["method"]] == s} for s in sources]
+            common = set.intersection(*ran)
+            if not common:
+                continue
+            summ = summaries([r for r in mine if r["instance"] in common])
+            for v in vs:
+                s = summ.get((v.id, group))
+                if s is not None:
+                    out.append({"group": group, "method": mid, "waypoint_source": source[v.id], "label": v.label,
+                                "config_hash": v.config_hash, "terrains": s["n"], "NSR": s["NSR"],
+                                "NCR": s["NCR"], "diverged": s["diverged"], "error": s["errors"]})
+    return out
+
+
+def _astar_section(page: "Page", tagged: list[dict[str, Any]], variants: list[Variant]) -> None:
+    """Deviation tables and figure; the outcomes by waypoint source when both were run."""
+    cfg = MRSConfig()
+    lines, waypoints = astar_comparison(cfg)
+    groups = astar_group_lines(lines)
+    page.csv("astar_paths_terrains.csv", lines, ASTAR_TERRAIN_COLUMNS)
+    page.csv("astar_paths.csv", groups, ASTAR_GROUP_COLUMNS)
+    page.p("Our A* (<code>planner.plan_waypoints</code> with the default planner config of this terrabench "
+           "version) against the waypoints the released A* variants follow. Deviation: mean distance (m) from "
+           "points sampled along one polyline to the other, averaged over both directions. Computed from the "
+           "shipped terrain data, not from stored trials.")
+    page.raw(_plain_table_html(groups, ASTAR_GROUP_COLUMNS)
+             + " <a href='astar_paths.csv'>astar_paths.csv</a>, per terrain: "
+             "<a href='astar_paths_terrains.csv'>astar_paths_terrains.csv</a>")
+    page.raw(f"<details><summary>planner config used</summary><pre>{html.escape(json.dumps(to_dict(cfg.planner), indent=2))}"
+             "</pre></details>")
+    page.figure(astar_figure(lines, waypoints), "astar_paths.png",
+                "Waypoints on the height map: per group the terrain of median and of largest deviation.")
+    src = source_lines(tagged, variants)
+    if src:
+        page.csv("astar_sources.csv", src, SOURCE_COLUMNS)
+        page.p("Stored A* runs with both waypoint sources, on the terrains both ran:")
+        page.raw(_plain_table_html(src, SOURCE_COLUMNS) + " <a href='astar_sources.csv'>astar_sources.csv</a>")
+
+
+# ------------------------------------------------------------------ statuses
+#: Trial endings of this system (``done`` belongs to systems without a goal).
+ENDINGS = tuple(s for s in STATUSES if s != "done")
+STATUS_COLUMNS = ("group", "label", "config_hash", "n", *ENDINGS, "sim_time_h", "wall_time_h")
+
+
+def status_lines(variants: list[Variant], tagged: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per group and variant: trial endings, total simulated and wall time (h); a total line last."""
+
+    def line(group: str, label: str, h: str, rs: list[dict[str, Any]]) -> dict[str, Any]:
+        ln: dict[str, Any] = {"group": group, "label": label, "config_hash": h, "n": len(rs)}
+        for s in ENDINGS:
+            ln[s] = sum(r["status"] == s for r in rs)
+        ln["sim_time_h"] = sum(r["metrics"].get("sim_time", 0.0) for r in rs) / 3600
+        ln["wall_time_h"] = sum(r["wall_time"] for r in rs) / 3600
+        return ln
+
+    out = []
+    for group in dataset.GROUPS:
+        for v in variants:
+            rs = [r for r in tagged if r["method"] == v.id and r["instance"][0] == group]
+            if rs:
+                out.append(line(group, v.label, v.config_hash, rs))
+    out.append(line("all", "all seed-0 trials", "", tagged))
+    return out
+
+
+# ------------------------------------------------------------------ page assembly
+class Page:
+    """The HTML body being assembled, and the files written beside it."""
+
+    def __init__(self, out_dir: Path):
+        self.out_dir, self.written, self.parts = out_dir, set(), []
+
+    def raw(self, s: str) -> None:
+        self.parts.append(s)
+
+    def h2(self, s: str) -> None:
+        self.raw(f"<h2>{s}</h2>")
+
+    def h3(self, s: str) -> None:
+        self.raw(f"<h3>{s}</h3>")
+
+    def p(self, s: str) -> None:
+        self.raw(f"<p>{s}</p>")
+
+    def figure(self, fig, name: str, caption: str) -> None:
+        """Save ``fig`` as ``name`` (PNG) beside the page and show it with ``caption`` (HTML)."""
+        fig.savefig(self.out_dir / name, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        self.written.add(name)
+        self.raw(f"<figure><a href='{name}'><img src='{name}' alt='{name}'></a><figcaption>{caption}</figcaption></figure>")
+
+    def csv(self, name: str, lines: list[dict[str, Any]], columns: Iterable[str]) -> None:
+        """Write ``lines`` as ``name`` beside the page, one column per name in ``columns``."""
+        columns = list(columns)
+        with (self.out_dir / name).open("w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(list(columns))
+            for ln in lines:
+                w.writerow([_cell(ln.get(c)) for c in columns])
+        self.written.add(name)
+
+    def finish(self) -> Path:
+        """Write ``index.html``, remove outputs of earlier reports not written now; its path."""
+        index = self.out_dir / "index.html"
+        index.write_text(
+            "<!doctype html><html><head><meta charset='utf-8'><title>terrabench: MRS-CWC benchmark</title>"
+            f"<style>{_CSS}</style></head><body><h1>MRS-CWC rough-terrain navigation benchmark</h1>"
+            + "\n".join(self.parts) + "</body></html>"
+        )
+        self.written.add(index.name)
+        for name in OUTPUTS:
+            if name not in self.written:
+                (self.out_dir / name).unlink(missing_ok=True)
+        return index
+
+
+_CSS = (
+    "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em}"
+    "table{border-collapse:collapse;margin:.5em 0;font-size:90%}"
+    "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}td:first-child{text-align:left}"
+    "th{background:#eee}.far{background:#fdd;font-weight:bold}.note{color:#a60}"
+    "img{max-width:100%}small{color:#777}pre{background:#f6f6f6;padding:.5em;font-size:80%}"
+)
+
+
+def _note(s: str) -> str:
+    return f"<p class=note>{html.escape(s)}</p>"
+
+
+def _plain_table_html(lines: list[dict[str, Any]], columns: Iterable[str]) -> str:
+    columns = list(columns)
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(_cell(ln.get(c)))}</td>" for c in columns) + "</tr>"
+                   for ln in lines)
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _cell(v: Any) -> str:
+    """A CSV/HTML cell: blank for missing or NaN, floats to 4 decimals."""
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return ""
+    if isinstance(v, float):
+        return str(round(v, 4))
+    return str(v)
+
+
+def _provenance_html(store, rows, rows0, variants: list[Variant]) -> str:
+    """Store, trial counts, total times and every config used (diff from defaults + full JSON)."""
+    from terrabench import __version__
+
+    defaults = _flatten(to_dict(MRSConfig()))
+    configs: dict[str, dict[str, Any]] = {}
+    users: dict[str, list[str]] = {}
+    counts: dict[str, int] = {}
+    for r in rows:
+        configs.setdefault(r["config_hash"], r["config"])
+        counts[r["config_hash"]] = counts.get(r["config_hash"], 0) + 1
+        if r["method"] not in users.setdefault(r["config_hash"], []):
+            users[r["config_hash"]].append(r["method"])
+    sim = sum(r["metrics"].get("sim_time", 0.0) for r in rows)
+    wall = sum(r["wall_time"] for r in rows)
+    parts = [
+        "<ul>",
+        f"<li>store: <code>{html.escape(str(Path(store.path).resolve()))}</code></li>",
+        f"<li>mrs-cwc trials stored: {len(rows)}; seed 0 (in the tables and figures): {len(rows0)}; "
+        f"seeds &gt; 0 (not shown): {len(rows) - len(rows0)}</li>",
+        f"<li>total simulated time {sim / 3600:.2f} h, total trial wall time {wall / 3600:.2f} h "
+        "(all stored trials)</li>",
+        f"<li>methods shown: {len(variants)} (method, config) variant(s)</li>",
+        f"<li>written by terrabench {__version__} at {_dt.datetime.now().isoformat(timespec='seconds')}</li>",
+        "</ul><h3>Configs used</h3>",
+    ]
+    for h, cfg in sorted(configs.items(), key=lambda kv: -counts[kv[0]]):
+        flat = _flatten(cfg)
+        diff = [f"{k}={flat.get(k)!r}" for k in sorted(set(flat) | set(defaults))
+                if canonical_json(flat.get(k)) != canonical_json(defaults.get(k))]
+        parts.append(
+            f"<details id='cfg-{h}'><summary><code>{h}</code>: {counts[h]} trial(s), methods "
+            f"{html.escape(', '.join(users[h]))}; differs from this version's defaults in: "
+            f"{html.escape('; '.join(diff) or 'nothing')}</summary>"
+            f"<pre>{html.escape(json.dumps(cfg, indent=2, sort_keys=True))}</pre></details>"
+        )
+    return "\n".join(parts)

@@ -21,10 +21,10 @@ DEFAULT_TERRAINS = "A-03,A-17,A-31,A-45,B-04,B-18,B-32,B-46"
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--steps", default="0.0025,0.005,0.00625")
+    ap.add_argument("--steps", default="0.0025,0.005")
     ap.add_argument("--terrains", default=DEFAULT_TERRAINS)
     ap.add_argument("--method", default="cwc-tdt")
-    ap.add_argument("--store", default="results/timestep_study.duckdb")
+    ap.add_argument("--store", default="results/terrabench.duckdb")
     ap.add_argument("--workers", type=int, default=None)
     args = ap.parse_args()
     steps = [float(s) for s in args.steps.split(",")]

@@ -242,7 +242,8 @@ def _add_sensors(spec: mujoco.MjSpec, variant: str, cfg: ChainConfig) -> None:
     for k in range(cfg.n_units):
         site = f"{Names.unit(k)}_imu"
         spec.add_sensor(name=f"{Names.unit(k)}_pos", type=S.mjSENS_FRAMEPOS, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
-        spec.add_sensor(name=f"{Names.unit(k)}_quat", type=S.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        # the body x axis in the world frame: heading = atan2(x_y, x_x) (an IMU/compass)
+        spec.add_sensor(name=f"{Names.unit(k)}_xaxis", type=S.mjSENS_FRAMEXAXIS, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
         spec.add_sensor(name=f"{Names.unit(k)}_angvel", type=S.mjSENS_FRAMEANGVEL, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
     for k in range(cfg.n_units):
         for side in Names.SIDES:

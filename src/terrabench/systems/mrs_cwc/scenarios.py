@@ -50,11 +50,14 @@ class MRSCWCSystem:
         terrains = dataset.select(instances, group)
         cfg = override(config or MRSConfig(), overrides or {})
         cfg_dict = to_dict(cfg)
+        # terrain-major, groups interleaved (A-01, B-01, A-02, ...): a run cut short still
+        # covers every method on the same terrains of both groups
+        ordered = sorted(terrains, key=lambda t: (t.row, t.group))
         return [
             TrialSpec(self.name, SCENARIO, mid, t.id, seed, cfg_dict)
-            for mid in mids
-            for t in terrains
             for seed in range(seeds)
+            for t in ordered
+            for mid in mids
         ]
 
     def run_trial(self, spec: TrialSpec) -> TrialResult:

@@ -26,7 +26,7 @@ class Observation:
     Attributes (all SI units):
         t: time (s).
         pos: unit positions, (n, 3) (m) - odometry/GNSS-like localisation.
-        quat: unit orientations (w, x, y, z), (n, 4).
+        xaxis: each unit's longitudinal axis in the world frame, (n, 3).
         angvel: unit angular velocities in the world frame, (n, 3) (rad/s).
         yaw: unit headings, (n,) (rad).  yaw_rate: (n,) (rad/s).
         wheel_speed: (n, 2) [left, right] (rad/s).  wheel_torque: (n, 2) (N m).
@@ -38,7 +38,7 @@ class Observation:
     """
 
     __slots__ = (
-        "t", "pos", "quat", "angvel", "yaw", "yaw_rate", "wheel_speed", "wheel_torque",
+        "t", "pos", "xaxis", "angvel", "yaw", "yaw_rate", "wheel_speed", "wheel_torque",
         "joint_yaw", "yaw_torque", "yaw_speed", "target_bearing", "target_distance",
         "_data", "_target",
     )
@@ -47,8 +47,8 @@ class Observation:
         sd = data.sensordata
         adr = lambda name: int(model.sensor_adr[model.sensor(name).id])  # noqa: E731
         a = adr(f"{Names.unit(0)}_pos")
-        per_unit = sd[a : a + 10 * n_units].reshape(n_units, 10)
-        self.pos, self.quat, self.angvel = per_unit[:, 0:3], per_unit[:, 3:7], per_unit[:, 7:10]
+        per_unit = sd[a : a + 9 * n_units].reshape(n_units, 9)
+        self.pos, self.xaxis, self.angvel = per_unit[:, 0:3], per_unit[:, 3:6], per_unit[:, 6:9]
         a = adr(f"{Names.wheel(0, 'left')}_vel")
         self.wheel_speed = sd[a : a + 2 * n_units].reshape(n_units, 2)
         a = adr(f"{Names.motor(0, 'left')}_torque")
@@ -80,12 +80,12 @@ class Observation:
 
     def refresh(self) -> "Observation":
         """Recompute the derived quantities after a physics step."""
-        q = self.quat
-        w, x, y, z = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
-        self.yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+        ax = self.xaxis
+        self.yaw = np.arctan2(ax[:, 1], ax[:, 0])  # equals the Z-Y-X yaw of the unit
         self.t = self._data.time
-        dx = self._target[0] - self.pos[0, 0]
-        dy = self._target[1] - self.pos[0, 1]
+        px, py = self.pos[0, 0], self.pos[0, 1]
+        dx = self._target[0] - px
+        dy = self._target[1] - py
         self.target_bearing = math.atan2(dy, dx)
         self.target_distance = math.hypot(dx, dy)
         return self

@@ -150,7 +150,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
             break
         body(obs, guidance.heading(obs), cmd)
         # the drive's torque limit, applied to the speed error the servo sees
-        ctrl[wheel_act] = np.clip(cmd.wheel_speed, wheel_speed - err_max, wheel_speed + err_max)
+        ctrl[wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, wheel_speed - err_max), wheel_speed + err_max)
         if cmd.yaw_stiffness is not None:
             jnt_stiffness[yaw_joints] = cmd.yaw_stiffness
             k_log[k] = cmd.yaw_stiffness

@@ -78,3 +78,11 @@ def test_a_tiny_run_prints_trials_and_the_paper_row_then_resumes(tmp_path):
     out = tmp_path / "a01.png"
     r = invoke("terrain", "show", "A-01", "--out", str(out), "--store", store)
     assert r.exit_code == 0 and "1 stored path" in r.text
+
+
+def test_perf_reports_both_throughputs_and_their_ratio():
+    r = invoke("perf", "mrs-cwc", "--terrains", "B-05", "--seconds", "0.5")
+    assert r.exit_code == 0, r.output
+    assert "loop/raw" in r.text and "B-05" in r.text
+    r = invoke("perf", "mrs-cwc", "--seconds", "-1")
+    assert r.exit_code == 2 and "seconds must be positive" in r.text

@@ -120,17 +120,25 @@ def run(
 def _run_with_progress(run_trials, specs, store, backend, workers, address):
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+    plain = not console.is_terminal  # piped or in CI: one plain line per trial instead of a bar
     progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
                         TimeElapsedColumn(), TimeRemainingColumn(), TextColumn("{task.fields[last]}"),
-                        console=console, transient=False)
+                        console=console, transient=False, disable=plain)
     task = None
 
     def on_start(n: int) -> None:
         nonlocal task
         task = progress.add_task("trials", total=n, last="")
 
+    done = 0
+
     def on_result(spec, result) -> None:
+        nonlocal done
+        done += 1
         progress.update(task, advance=1, last=f"{spec.method} {spec.instance}: {result.status}")
+        if plain:
+            print(f"[{done}/{progress.tasks[0].total:.0f}] {spec.method} {spec.instance} seed {spec.seed}: "
+                  f"{result.status} ({result.wall_time:.1f} s)", flush=True)
 
     with progress:
         return run_trials(specs, store, backend=backend, workers=workers, address=address,

@@ -86,3 +86,17 @@ def test_perf_reports_both_throughputs_and_their_ratio():
     assert "loop/raw" in r.text and "B-05" in r.text
     r = invoke("perf", "mrs-cwc", "--seconds", "-1")
     assert r.exit_code == 2 and "seconds must be positive" in r.text
+
+
+def test_generate_then_stats_round_trips_and_a_bad_csv_is_refused(tmp_path):
+    out = tmp_path / "new.csv"
+    r = invoke("terrain", "generate", "--n", "2", "--band", "30,45", "--seed", "3", "--out", str(out))
+    assert r.exit_code == 0, r.output
+    r = invoke("terrain", "stats", "--csv", str(out))
+    assert r.exit_code == 0 and "row-2" in r.text
+    bad = tmp_path / "bad.csv"
+    bad.write_text("Size,Height\n0.05,0.1\n")
+    r = invoke("terrain", "stats", "--csv", str(bad))
+    assert r.exit_code == 2 and "missing column(s) XY Proportion" in r.text and "Traceback" not in r.output
+    r = invoke("terrain", "generate", "--band", "45")
+    assert r.exit_code == 2 and "--band must be LOW,HIGH" in r.text

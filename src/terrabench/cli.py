@@ -199,6 +199,7 @@ def perf(
 def terrain_stats(
     group: Optional[str] = typer.Option(None, help="A, B or all"),
     terrains: Optional[str] = typer.Option(None, help="comma-separated ids"),
+    csv: Optional[Path] = typer.Option(None, help="a terrain CSV in the released format instead"),
 ) -> None:
     """Mean per-axis slope and maximum slope of each terrain."""
     from rich.table import Table
@@ -208,11 +209,39 @@ def terrain_stats(
     t = Table(title="terrain slope statistics")
     for c in ("id", "mean axis slope deg", "max slope deg", "mean slope deg", "relief m"):
         t.add_column(c, justify="right")
-    for ter in dataset.select(_split(terrains), group):
+    if csv is not None:
+        chosen = [dataset.Terrain(f"row-{k}", "-", k, p) for k, p in enumerate(dataset.load_csv(csv), start=1)]
+    else:
+        chosen = dataset.select(_split(terrains), group)
+    for ter in chosen:
         s = ter.stats()
         t.add_row(ter.id, f"{s['mean_axis_slope_deg']:.1f}", f"{s['max_slope_deg']:.1f}",
                   f"{s['mean_slope_deg']:.1f}", f"{s['relief_m']:.2f}")
     console.print(t)
+
+
+@terrain_app.command("generate")
+@friendly
+def terrain_generate(
+    n: int = typer.Option(10, help="how many terrains"),
+    band: str = typer.Option("30,45", help="mean per-axis slope band in degrees, LOW,HIGH"),
+    seed: int = typer.Option(0, help="random seed"),
+    out: Path = typer.Option(Path("terrains.csv"), help="CSV written in the released format"),
+) -> None:
+    """New random terrains of the benchmark's family, filtered by a slope band (as the paper made its groups)."""
+    import numpy as np
+
+    from terrabench.terrain import dataset
+
+    if n < 1:
+        raise ValueError(f"--n must be at least 1, got {n}")
+    try:
+        lo, hi = (float(v) for v in band.split(","))
+    except ValueError:
+        raise ValueError(f"--band must be LOW,HIGH in degrees, e.g. 30,45; got {band!r}") from None
+    params = dataset.generate(n, np.random.default_rng(seed), slope_band_deg=(lo, hi))
+    dataset.write_csv(params, out)
+    console.print(f"wrote {n} terrains with mean axis slope in [{lo}, {hi}) deg to {out}")
 
 
 @terrain_app.command("show")

@@ -188,5 +188,18 @@ def load_csv(path: str | Path) -> list[SineSumParams]:
     return parse_rows(p.read_text(), str(p))
 
 
+def write_csv(params: Sequence[SineSumParams], path: str | Path) -> Path:
+    """Write terrains in the released CSV format (``Seed`` is written as 0: it is never used)."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    with p.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(("Seed",) + REQUIRED_COLUMNS)
+        for q in params:
+            chans = [v for k in range(3) for v in (q.freq[k], q.ampl[k], q.phase[k])]
+            w.writerow([0, q.size, q.xy_proportion, q.height, *chans])
+    return p
+
+
 def ids(terrains: Iterable[Terrain]) -> list[str]:
     return [t.id for t in terrains]

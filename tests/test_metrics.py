@@ -63,6 +63,14 @@ def test_group_summary_counts_every_trial():
     assert s["NSR_lo"] < 75.0 < s["NSR_hi"]
 
 
+def test_pooled_nec_is_total_energy_over_total_progress():
+    trials = [{"success": 1.0, "energy": 100.0, "D_ef": 10.0, "NEC": 10.0},
+              {"success": 0.0, "energy": 100.0, "D_ef": 0.01, "NEC": 10000.0}]
+    s = group_summary(trials)
+    assert s["NEC"] == pytest.approx(5005.0)  # the paper's mean: dominated by the stuck trial
+    assert s["NEC_pooled"] == pytest.approx(200.0 / 10.01)
+
+
 def test_wilson_interval_edges():
     lo, hi = wilson_interval(0, 50)
     assert lo == pytest.approx(0.0, abs=1e-12) and 0.05 < hi < 0.1

@@ -68,7 +68,7 @@ def navigation_metrics(
 
 
 def group_summary(trials: Iterable[Mapping[str, float]]) -> dict[str, float]:
-    """NSR (%), mean NCR (%), mean NEF, mean NEC (J/m) and counts over a group's trials.
+    """NSR (%), mean NCR (%), mean NEF, mean NEC (J/m), pooled NEC and counts over a group's trials.
 
     A trial that ended ``diverged`` or ``error`` still counts as a trial and as a failure;
     its metrics enter the means if it has them. NaNs are left out of the means, so each mean
@@ -86,6 +86,12 @@ def group_summary(trials: Iterable[Mapping[str, float]]) -> dict[str, float]:
     def mean(vals: np.ndarray) -> float:
         return float(vals.mean()) if len(vals) else float("nan")
 
+    # NEC = E / D_ef explodes for trials that barely moved toward the target, so its mean is
+    # heavy-tailed; the pooled ratio sum(E) / sum(D_ef) is the robust companion figure
+    energy = np.array([r.get("energy", float("nan")) for r in rows], float)
+    d_ef = np.array([r.get("D_ef", float("nan")) for r in rows], float)
+    ok = np.isfinite(energy) & np.isfinite(d_ef)
+    nec_pooled = float(energy[ok].sum() / d_ef[ok].sum()) if ok.any() and d_ef[ok].sum() > 0 else float("nan")
     successes = sum(1 for r in rows if r.get("success", 0.0) == 1.0)
     lo, hi = wilson_interval(successes, n)
     ncr, nef, nec = finite("NCR"), finite("NEF"), finite("NEC")
@@ -98,6 +104,7 @@ def group_summary(trials: Iterable[Mapping[str, float]]) -> dict[str, float]:
         "NCR": 100.0 * mean(ncr),
         "NEF": mean(nef),
         "NEC": mean(nec),
+        "NEC_pooled": nec_pooled,
         "n_NCR": len(ncr),
         "n_NEF": len(nef),
         "n_NEC": len(nec),

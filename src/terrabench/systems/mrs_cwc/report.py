@@ -130,7 +130,9 @@ def write_report(store, out_dir: Path) -> Path:
         "was undefined (NaN, e.g. an <code>error</code> trial) are left out of it. "
         "<code>diverged</code> and <code>error</code> trials count as failures in NSR. "
         f"Highlighted: the paper's NSR outside our 95 % Wilson CI, or NCR/NEF/NEC more than "
-        f"{FAR_FROM_PAPER:.0%} from the paper's."
+        f"{FAR_FROM_PAPER:.0%} from the paper's. NEC is the paper's mean of per-trial E / D_ef; it is "
+        "heavy-tailed (a trial that barely moved toward the target has a huge NEC), so the CSVs also "
+        "give <code>NEC_pooled</code> = sum(E) / sum(D_ef) over the row's trials."
     )
     for group in dataset.GROUPS:
         lines = group_table(variants, summ, group)
@@ -227,7 +229,7 @@ TABLE_COLUMNS = (
     "group", "method", "label", "config_hash", "n", "n_paper",
     "NSR", "NSR_lo", "NSR_hi", "NSR_paper",
     "NCR", "n_NCR", "NCR_paper", "NEF", "n_NEF", "NEF_paper", "NEC", "n_NEC", "NEC_paper",
-    "diverged", "error",
+    "NEC_pooled", "diverged", "error",
 )
 
 
@@ -243,7 +245,7 @@ def group_table(variants: list[Variant], summ: dict, group: str) -> list[dict[st
             "group": group, "method": v.method, "label": v.label, "config_hash": v.config_hash,
             "n": s["n"], "n_paper": TRIALS_PER_GROUP if paper else None,
             "NSR": s["NSR"], "NSR_lo": s["NSR_lo"], "NSR_hi": s["NSR_hi"], "NSR_paper": paper.get("NSR"),
-            "diverged": s["diverged"], "error": s["errors"],
+            "NEC_pooled": s["NEC_pooled"], "diverged": s["diverged"], "error": s["errors"],
         }
         for name in METRIC_NAMES[1:]:
             line[name], line[f"n_{name}"], line[f"{name}_paper"] = s[name], s[f"n_{name}"], paper.get(name)

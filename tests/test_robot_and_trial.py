@@ -1,7 +1,5 @@
 """The chain model and whole trials: pinned counts, physics, protocol, determinism."""
 
-import math
-from dataclasses import replace
 
 import mujoco
 import numpy as np

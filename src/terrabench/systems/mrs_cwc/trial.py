@@ -33,7 +33,6 @@ class Scene:
     wheel_act: np.ndarray  # (n, 2) actuator ids [left, right]
     yaw_joints: np.ndarray  # (n-1,) joint ids of the yaw hinges (empty for D)
     yaw_servos: np.ndarray  # (n-1,) actuator ids (MJ only)
-    yaw_dofs: np.ndarray  # (n-1,) dof addresses of the yaw hinges
 
 
 def build_scene(terrain: dataset.Terrain, method: Method, cfg: MRSConfig) -> Scene:
@@ -53,17 +52,16 @@ def build_scene(terrain: dataset.Terrain, method: Method, cfg: MRSConfig) -> Sce
     n = cfg.chain.n_units
     wheel_act = np.array([[model.actuator(Names.motor(k, s)).id for s in Names.SIDES] for k in range(n)])
     if method.variant == "none":
-        yaw_joints = yaw_servos = yaw_dofs = np.zeros(0, int)
+        yaw_joints = yaw_servos = np.zeros(0, int)
     else:
         yaw_joints = np.array([model.joint(Names.link_joint(k, "yaw")).id for k in range(1, n)])
-        yaw_dofs = model.jnt_dofadr[yaw_joints]
         yaw_servos = (
             np.array([model.actuator(Names.yaw_servo(k)).id for k in range(1, n)])
             if method.variant == "motor"
             else np.zeros(0, int)
         )
     mujoco.mj_forward(model, data)
-    return Scene(model, data, start_z, wheel_act, yaw_joints, yaw_servos, yaw_dofs)
+    return Scene(model, data, start_z, wheel_act, yaw_joints, yaw_servos)
 
 
 def make_controller(method: Method, cfg: MRSConfig, terrain: dataset.Terrain):
@@ -118,7 +116,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
     ctrl = d.ctrl
     wheel_act = sc.wheel_act
     wheel_speed, wheel_torque = obs.wheel_speed, obs.wheel_torque
-    yaw_joints, yaw_servos, yaw_dofs = sc.yaw_joints, sc.yaw_servos, sc.yaw_dofs
+    yaw_joints, yaw_servos = sc.yaw_joints, sc.yaw_servos
     has_servo = len(yaw_servos) > 0
     jnt_stiffness = m.jnt_stiffness
     err_max = cfg.chain.wheel_torque_limit / cfg.chain.wheel_kv

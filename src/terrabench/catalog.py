@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import functools
 import importlib
+import os
 
 from terrabench.registry import REGISTRY, Record, Registry
 
@@ -19,6 +20,12 @@ SYSTEM_MODULES = {
 
 @functools.cache
 def populate(registry: Registry = REGISTRY) -> Registry:
+    # user modules that register methods of their own (imported in every worker too)
+    for plugin in filter(None, os.environ.get("TERRABENCH_PLUGINS", "").split(",")):
+        try:
+            importlib.import_module(plugin.strip())
+        except ImportError as exc:
+            raise ValueError(f"TERRABENCH_PLUGINS names {plugin!r}, which cannot be imported: {exc}") from None
     for sid, module in SYSTEM_MODULES.items():
         try:
             mod = importlib.import_module(module)

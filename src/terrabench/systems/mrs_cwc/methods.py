@@ -1,8 +1,17 @@
-"""The eight methods of the paper's Table I, as (link variant, guidance, body law)."""
+"""The eight methods of the paper's Table I, as (link variant, guidance, body law).
+
+A body law is built by a factory ``(n_units, cfg: MRSConfig) -> BodyLaw`` looked up in
+:data:`BODY_LAWS` by the method's ``body`` id. :func:`register_method` adds a method of your
+own (for parallel runs, put the call in a module named in ``TERRABENCH_PLUGINS``, which every
+worker imports).
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any, Callable
+
+from terrabench.systems.mrs_cwc import control as ctl
 
 
 @dataclass(frozen=True)
@@ -39,6 +48,33 @@ for _b, (_name, _variant, _what) in _BODIES.items():
     for _g, (_gl, _gwhat) in _GUIDANCE.items():
         _id = f"{_b}-{_g}"
         METHODS[_id] = Method(_id, f"{_name} + {_gl}", _variant, _b, _g, f"{_what}; {_gwhat}")
+
+
+#: body id -> factory (n_units, MRSConfig) -> body law
+BODY_LAWS: dict[str, Callable[[int, Any], Any]] = {
+    "cwc": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, cfg.stiffness),
+    "cs": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, replace(cfg.stiffness, mode="constant")),
+    "mj": lambda n, cfg: ctl.HeadFollowing(n, cfg.drive, cfg.head_following),
+    "d": lambda n, cfg: ctl.FollowByPosition(n, cfg.drive, cfg.follow),
+}
+
+
+def register_method(method: Method, body_factory: Callable[[int, Any], Any] | None = None) -> Method:
+    """Add a method (and, if its ``body`` id is new, the factory of its body law).
+
+    The body law is called every control period as ``law(obs, heading_ref, cmd)`` with an
+    :class:`~terrabench.systems.mrs_cwc.sensing.Observation` and fills the
+    :class:`~terrabench.systems.mrs_cwc.control.Command`; it must expose ``tau_env`` (NaN if
+    it has none). The robot build is chosen by ``method.variant``.
+    """
+    if method.id in METHODS:
+        raise ValueError(f"method id {method.id!r} already exists")
+    if body_factory is not None:
+        BODY_LAWS[method.body] = body_factory
+    if method.body not in BODY_LAWS:
+        raise ValueError(f"unknown body law {method.body!r}; valid: {', '.join(BODY_LAWS)} (or pass body_factory)")
+    METHODS[method.id] = method
+    return method
 
 
 def get_method(mid: str) -> Method:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -13,7 +13,7 @@ from terrabench.metrics.navigation import navigation_metrics
 from terrabench.sim.physics import diverged
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.config import MRSConfig
-from terrabench.systems.mrs_cwc.methods import Method
+from terrabench.systems.mrs_cwc.methods import BODY_LAWS, Method
 from terrabench.systems.mrs_cwc.robot import Names, add_chain
 from terrabench.systems.mrs_cwc.sensing import Observation
 from terrabench.terrain import dataset, sine_sum
@@ -71,14 +71,7 @@ def make_controller(method: Method, cfg: MRSConfig, terrain: dataset.Terrain):
         guidance: ctl.Guidance = ctl.TargetDirection()
     else:
         guidance = ctl.WaypointGuidance(waypoints_for(terrain, cfg), cfg.waypoints)
-    if method.body == "cwc":
-        body: ctl.BodyLaw = ctl.CWCLaw(n, cfg.drive, cfg.stiffness)
-    elif method.body == "cs":
-        body = ctl.CWCLaw(n, cfg.drive, replace(cfg.stiffness, mode="constant"))
-    elif method.body == "mj":
-        body = ctl.HeadFollowing(n, cfg.drive, cfg.head_following)
-    else:
-        body = ctl.FollowByPosition(n, cfg.drive, cfg.follow)
+    body: ctl.BodyLaw = BODY_LAWS[method.body](n, cfg)
     return guidance, body
 
 

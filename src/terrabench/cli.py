@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import os
+import signal
 from pathlib import Path
 from typing import Callable, Optional
 
@@ -100,6 +101,7 @@ def run(
                 raise ValueError(f"system {system!r} has no {flag} setting")
             overrides[key] = value
     specs = sysobj.plan(methods=_split(methods), instances=_split(terrains), group=group, seeds=seeds, overrides=overrides)
+    signal.signal(signal.SIGTERM, _interrupt)  # a scheduler's TERM stops as cleanly as Ctrl-C
     with ResultsStore(store) as st:
         summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
         rows = st.rows(keys=[s.key for s in specs])
@@ -114,6 +116,10 @@ def run(
     if summary.interrupted:
         err_console.print("[yellow]interrupted:[/] finished trials are stored; run the same command to resume.")
         raise typer.Exit(130)
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def _run_with_progress(run_trials, specs, store, backend, workers, address):

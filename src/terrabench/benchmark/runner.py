@@ -123,8 +123,10 @@ def _run_pool(todo: list[TrialSpec], land, workers: int) -> None:
                     spec = pending.pop(fut)
                     land(spec, fut.result())
         except BaseException:
-            for fut in pending:
-                fut.cancel()
+            # interrupted: the trials in flight are lost anyway, so stop their workers now
+            # instead of waiting up to a whole trial for them
+            for proc in list((getattr(pool, "_processes", None) or {}).values()):
+                proc.terminate()
             pool.shutdown(wait=False, cancel_futures=True)
             raise
 

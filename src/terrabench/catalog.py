@@ -36,10 +36,6 @@ def populate(registry: Registry = REGISTRY) -> Registry:
     return registry
 
 
-def system_ids() -> list[str]:
-    return populate().ids("system")
-
-
 def system(name: str):
     """The ``SYSTEM`` object of a system id; ValueError listing valid ids otherwise."""
     record: Record = populate().get("system", name)

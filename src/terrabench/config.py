@@ -1,4 +1,4 @@
-"""Frozen-dataclass config helpers: to/from plain dicts, YAML, and dotted overrides.
+"""Frozen-dataclass config helpers: to/from plain dicts and dotted (YAML-valued) overrides.
 
 Configs are nested frozen dataclasses; a run stores ``to_dict(cfg)`` with every trial, and
 ``from_dict`` rebuilds the identical object in a worker. ``override(cfg, {"physics.timestep":
@@ -83,7 +83,3 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
             raise ValueError(f"bad override {item!r}; expected KEY=VALUE, e.g. physics.timestep=0.0025")
         out[key.strip()] = yaml.safe_load(raw)
     return out
-
-
-def dump_yaml(cfg: Any) -> str:
-    return yaml.safe_dump(to_dict(cfg), sort_keys=False)

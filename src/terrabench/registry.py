@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any
 
 KINDS = ("system", "scenario", "method")
 
@@ -70,9 +70,6 @@ class Registry:
             where = f" of system {system!r}" if system else ""
             raise ValueError(f"unknown {kind} {id!r}{where}; valid: {valid}")
         return matches[0]
-
-    def resolve_many(self, kind: str, ids: Iterable[str], system: str | None = None) -> list[Record]:
-        return [self.get(kind, i, system) for i in ids]
 
 
 #: The process-wide registry. Systems register themselves in :mod:`terrabench.catalog`.

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Sequence
 
 import numpy as np
 
@@ -199,7 +199,3 @@ def write_csv(params: Sequence[SineSumParams], path: str | Path) -> Path:
             chans = [v for k in range(3) for v in (q.freq[k], q.ampl[k], q.phase[k])]
             w.writerow([0, q.size, q.xy_proportion, q.height, *chans])
     return p
-
-
-def ids(terrains: Iterable[Terrain]) -> list[str]:
-    return [t.id for t in terrains]

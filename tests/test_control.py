@@ -143,3 +143,12 @@ def test_distributed_followers_stop_close_and_chase_when_far():
     body(obs, 0.0, cmd)
     assert np.all(cmd.wheel_speed[1] == 0.0)
     assert cmd.wheel_speed[2, 0] == pytest.approx(5.0 * (1.0 - 0.1))
+
+
+def test_a_follower_far_behind_is_capped_at_the_wheel_speed_limit():
+    body = ctl.FollowByPosition(2, ctl.DriveConfig(), ctl.FollowConfig(max_wheel_speed=6.0))
+    cmd = ctl.Command(2)
+    obs = fake_obs([[0, 0, 0], [-5.0, 0.5, 0]], [0.0, 0.0])  # 5 m behind and off to the side
+    body(obs, 0.0, cmd)
+    assert np.all(np.abs(cmd.wheel_speed[1]) <= 6.0)
+    assert cmd.wheel_speed[1, 1] == pytest.approx(6.0)  # still turning towards it at full speed

@@ -135,3 +135,31 @@ def test_ray_backend_gives_identical_results(tmp_path):
             ta, tb = a.timeseries(key), b.timeseries(key)
             for col in ta:
                 np.testing.assert_array_equal(ta[col], tb[col])
+
+
+def test_a_method_is_keyed_by_the_config_sections_it_reads():
+    base = {s.method: s for s in SYSTEM.plan(methods=["all"], instances=["A-01"])}
+    assert "stiffness" not in base["d-tdt"].config and "follow" in base["d-tdt"].config
+    assert "planner" not in base["cwc-astar"].config  # released waypoints: the planner is unused
+    changed = {s.method: s for s in SYSTEM.plan(methods=["all"], instances=["A-01"], overrides={"follow.speed_gain": 4.0})}
+    moved = sorted(m for m in base if base[m].key != changed[m].key)
+    assert moved == ["d-astar", "d-tdt"]
+    planner = SYSTEM.plan(methods=["cwc-astar"], instances=["A-01"], overrides={"waypoint_source": "planner"})[0]
+    assert "planner" in planner.config
+
+
+def test_rekey_moves_rows_and_series_to_the_new_key_and_keeps_results(tmp_path):
+    new = SYSTEM.plan(methods=["mj-tdt"], instances=["A-01"])[0]
+    old = TrialSpec(new.system, new.scenario, new.method, new.instance, 0, {**new.config, "legacy": {"x": 1}})
+    res = TrialResult("timeout", {"NCR": 0.25}, {"t": np.arange(3.0)}, 1.0, {})
+    with ResultsStore(tmp_path / "r.duckdb") as st:
+        st.write(old, res)
+        assert st.done_keys([new.key]) == set()
+        strip = lambda s: TrialSpec(s.system, s.scenario, s.method, s.instance, s.seed,  # noqa: E731
+                                    {k: v for k, v in s.config.items() if k != "legacy"})
+        assert st.rekey("mrs-cwc", strip) == 1
+        assert st.rekey("mrs-cwc", strip) == 0  # idempotent
+        assert st.done_keys([new.key]) == {new.key}
+        row = st.rows(keys=[new.key])[0]
+        assert row["metrics"]["NCR"] == 0.25 and row["config_hash"] == new.config_hash
+        assert list(st.timeseries(new.key)["t"]) == [0.0, 1.0, 2.0] and not st.timeseries(old.key)

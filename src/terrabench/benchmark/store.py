@@ -16,7 +16,7 @@ import datetime as _dt
 import json
 import math
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 import duckdb
 import numpy as np
@@ -129,6 +129,38 @@ class ResultsStore:
         except BaseException:
             con.execute("ROLLBACK")
             raise
+
+    def rekey(self, system: str, canonical: Callable[[TrialSpec], TrialSpec | None]) -> int:
+        """Re-derive the keys of ``system``'s stored trials after a change in what a spec holds.
+
+        ``canonical(spec)`` returns the spec the current code would plan for the stored one
+        (e.g. with the config cut down to the sections its method reads), or ``None`` to
+        leave the row alone. Rows whose key changes get the new key, config and hash, and
+        their series follow; a row whose new key is already stored is left as it was.
+        Results are never touched. Returns the number of rows rekeyed.
+        """
+        cols = "key, system, scenario, method, instance, seed, config"
+        rows = self.con.execute(f"SELECT {cols} FROM trials WHERE system = ?", [system]).fetchall()
+        taken = self.done_keys()
+        moved = 0
+        self.con.execute("BEGIN TRANSACTION")
+        try:
+            for key, sys_, scen, meth, inst, seed, cfg in rows:
+                new = canonical(TrialSpec(sys_, scen, meth, inst, int(seed), json.loads(cfg)))
+                if new is None or new.key == key or new.key in taken:
+                    continue
+                self.con.execute(
+                    "UPDATE trials SET key = ?, config_hash = ?, config = ? WHERE key = ?",
+                    [new.key, new.config_hash, canonical_json(_clean(dict(new.config))), key],
+                )
+                self.con.execute("UPDATE series SET key = ? WHERE key = ?", [new.key, key])
+                taken.add(new.key)
+                moved += 1
+            self.con.execute("COMMIT")
+        except BaseException:
+            self.con.execute("ROLLBACK")
+            raise
+        return moved
 
     # ---------------------------------------------------------------- reading
     def done_keys(self, keys: Iterable[str] | None = None) -> set[str]:

@@ -25,6 +25,9 @@ class Method:
         body: body law: ``"cwc"``, ``"cs"``, ``"mj"`` or ``"d"``.
         guidance: ``"tdt"`` (no map) or ``"astar"`` (waypoints from a map).
         summary: one line for ``terrabench list``.
+        reads: the :class:`~terrabench.systems.mrs_cwc.config.MRSConfig` sections the method
+            uses; only these are stored with (and hashed into) its trials, so changing, say,
+            the D law's settings re-runs the D trials and nothing else. ``None``: all of them.
     """
 
     id: str
@@ -33,6 +36,7 @@ class Method:
     body: str
     guidance: str
     summary: str
+    reads: tuple[str, ...] | None = None
 
 
 _BODIES = {
@@ -43,11 +47,33 @@ _BODIES = {
 }
 _GUIDANCE = {"tdt": ("TDT", "target-direction tracking"), "astar": ("A*", "A* waypoints over the height map")}
 
+#: config sections every built-in method reads, then those of each body law and guidance
+COMMON_SECTIONS = ("physics", "chain", "protocol", "drive")
+_BODY_SECTIONS = {"cwc": ("stiffness",), "cs": ("stiffness",), "mj": ("head_following",), "d": ("follow",)}
+_GUIDANCE_SECTIONS = {"tdt": (), "astar": ("waypoints", "waypoint_source", "planner")}
+
 METHODS: dict[str, Method] = {}
 for _b, (_name, _variant, _what) in _BODIES.items():
     for _g, (_gl, _gwhat) in _GUIDANCE.items():
         _id = f"{_b}-{_g}"
-        METHODS[_id] = Method(_id, f"{_name} + {_gl}", _variant, _b, _g, f"{_what}; {_gwhat}")
+        _reads = COMMON_SECTIONS + _BODY_SECTIONS[_b] + _GUIDANCE_SECTIONS[_g]
+        METHODS[_id] = Method(_id, f"{_name} + {_gl}", _variant, _b, _g, f"{_what}; {_gwhat}", _reads)
+
+
+def config_for(method: Method, cfg: dict[str, Any]) -> dict[str, Any]:
+    """The part of a full config dict (``to_dict(MRSConfig)``) that ``method`` reads.
+
+    The planner's settings matter only when the waypoints come from our planner.
+    """
+    if method.reads is None:
+        return dict(cfg)
+    keep = set(method.reads)
+    if cfg.get("waypoint_source") != "planner":
+        keep.discard("planner")
+    unknown = keep - set(cfg)
+    if unknown:
+        raise ValueError(f"method {method.id!r} reads unknown config section(s) {sorted(unknown)}; valid: {sorted(cfg)}")
+    return {k: v for k, v in cfg.items() if k in keep}
 
 
 #: body id -> factory (n_units, MRSConfig) -> body law

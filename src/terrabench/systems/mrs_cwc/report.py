@@ -666,7 +666,8 @@ def _provenance_html(store, rows, rows0, variants: list[Variant]) -> str:
     ]
     for h, cfg in sorted(configs.items(), key=lambda kv: -counts[kv[0]]):
         flat = _flatten(cfg)
-        diff = [f"{k}={flat.get(k)!r}" for k in sorted(set(flat) | set(defaults))
+        # a trial stores only the sections its method reads: compare those
+        diff = [f"{k}={flat.get(k)!r}" for k in sorted(flat)
                 if canonical_json(flat.get(k)) != canonical_json(defaults.get(k))]
         parts.append(
             f"<details id='cfg-{h}'><summary><code>{h}</code>: {counts[h]} trial(s), methods "

@@ -12,7 +12,7 @@ from terrabench.config import from_dict, override, to_dict
 from terrabench.metrics.navigation import group_summary
 from terrabench.systems.mrs_cwc import trial
 from terrabench.systems.mrs_cwc.config import MRSConfig
-from terrabench.systems.mrs_cwc.methods import METHODS, get_method
+from terrabench.systems.mrs_cwc.methods import METHODS, config_for, get_method
 from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, paper_row
 from terrabench.terrain import dataset
 
@@ -53,8 +53,10 @@ class MRSCWCSystem:
         # terrain-major, groups interleaved (A-01, B-01, A-02, ...): a run cut short still
         # covers every method on the same terrains of both groups
         ordered = sorted(terrains, key=lambda t: (t.row, t.group))
+        # each trial stores (and is keyed by) only the config sections its method reads
+        per_method = {mid: config_for(get_method(mid), cfg_dict) for mid in mids}
         return [
-            TrialSpec(self.name, SCENARIO, mid, t.id, seed, cfg_dict)
+            TrialSpec(self.name, SCENARIO, mid, t.id, seed, per_method[mid])
             for seed in range(seeds)
             for t in ordered
             for mid in mids

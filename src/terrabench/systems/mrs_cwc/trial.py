@@ -133,7 +133,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
             status, reason = "fell", f"leader below z = {pr.fall_z} m"
             break
         if k % check_every == 0:
-            why = diverged(m, d, cfg.physics.max_speed)
+            why = diverged(m, d, cfg.physics.max_speed, ignore_below=pr.fall_z)
             if why:
                 status, reason = "diverged", why
                 break

@@ -132,3 +132,19 @@ def test_a_body_in_free_fall_below_the_world_is_not_a_divergence():
     d.qpos[2] = 0.0
     mujoco.mj_forward(m, d)
     assert diverged(m, d, 1000.0, ignore_below=-50.0) is not None  # the same speed on the terrain is
+
+
+def test_a_unit_that_fell_off_the_world_stops_colliding_and_is_parked(flat_terrain):
+    import mujoco
+
+    sc = trial.build_scene(flat_terrain, get_method("d-tdt"), MRSConfig())
+    m, d = sc.model, sc.data
+    assert [len(g) for g in sc.unit_geoms] == [4, 3, 3, 3, 3, 3]  # body + 2 wheels (+ bumper)
+    j = m.body_jntadr[sc.unit_bodies[3]]
+    d.qpos[m.jnt_qposadr[j] + 2] = -70.0
+    d.qvel[m.jnt_dofadr[j] + 2] = -40.0
+    mujoco.mj_forward(m, d)
+    trial.drop_fallen_units(sc, -50.0)
+    assert np.all(m.geom_contype[sc.unit_geoms[3]] == 0) and np.all(m.geom_conaffinity[sc.unit_geoms[3]] == 0)
+    assert d.qpos[m.jnt_qposadr[j] + 2] == -60.0 and np.all(d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + 6] == 0)
+    assert np.all(m.geom_conaffinity[sc.unit_geoms[2]] != 0)  # the others still collide

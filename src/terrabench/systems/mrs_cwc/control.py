@@ -284,19 +284,15 @@ class FollowConfig:
     """D: follow the predecessor's position (spec section 4).
 
     Attributes:
-        bearing_gain: gain on the bearing error before the differential term. The spec says
-            10; in MuJoCo that makes every follower spin and race (the wheel torque swings
-            the body, whose centre of mass hangs only 0.075 m below the axle) and the trial
-            diverges within 12 s even on flat ground, so the default is 3 (stable on flat
-            ground and the benchmark terrains; docs/assumptions.md).
+        bearing_gain: gain on the bearing error before the differential term (spec: 10).
         speed_gain: wheel speed per metre of excess distance (rad/s/m).
         stop_distance: followers stop within this distance (m).
         max_wheel_speed: cap on a follower's wheel-speed command (rad/s). The spec gives
             none; without one, a follower that falls a few metres behind is commanded tens
-            of rad/s, races, and MuJoCo diverges (37 of 200 D trials did). ``inf`` disables it.
+            of rad/s, races, and MuJoCo diverges (docs/assumptions.md).
     """
 
-    bearing_gain: float = 3.0
+    bearing_gain: float = 10.0
     speed_gain: float = 5.0
     stop_distance: float = 0.1
     max_wheel_speed: float = 6.0

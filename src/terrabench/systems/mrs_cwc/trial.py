@@ -33,6 +33,8 @@ class Scene:
     wheel_act: np.ndarray  # (n, 2) actuator ids [left, right]
     yaw_joints: np.ndarray  # (n-1,) joint ids of the yaw hinges (empty for D)
     yaw_servos: np.ndarray  # (n-1,) actuator ids (MJ only)
+    unit_bodies: np.ndarray  # (n,) body ids of the units
+    unit_geoms: list[np.ndarray]  # per unit, the geoms of the unit and everything it carries
 
 
 def build_scene(terrain: dataset.Terrain, method: Method, cfg: MRSConfig) -> Scene:
@@ -60,8 +62,39 @@ def build_scene(terrain: dataset.Terrain, method: Method, cfg: MRSConfig) -> Sce
             if method.variant == "motor"
             else np.zeros(0, int)
         )
+    unit_bodies = np.array([model.body(Names.unit(k)).id for k in range(n)])
+    owner = {int(b): k for k, b in enumerate(unit_bodies)}
+    unit_geoms: list[list[int]] = [[] for _ in range(n)]
+    for g in range(model.ngeom):
+        b = int(model.geom_bodyid[g])
+        while b and b not in owner:  # walk up to the unit that carries this body
+            b = int(model.body_parentid[b])
+        if b:
+            unit_geoms[owner[b]].append(g)
     mujoco.mj_forward(model, data)
-    return Scene(model, data, start_z, wheel_act, yaw_joints, yaw_servos)
+    return Scene(model, data, start_z, wheel_act, yaw_joints, yaw_servos, unit_bodies,
+                 [np.array(g, int) for g in unit_geoms])
+
+
+def drop_fallen_units(scene: Scene, fall_z: float) -> None:
+    """Units below ``fall_z`` slid off the terrain: they stop colliding and are parked.
+
+    Without this, MRS-D followers that left the world fall for hundreds of seconds; at a
+    million metres from the origin MuJoCo's global-frame arithmetic loses its precision and
+    the state blows up (a false divergence). A fallen unit with its own free joint (MRS-D)
+    is held 10 m below ``fall_z`` at rest; a chain's units go down with their leader, whose
+    fall ends the trial.
+    """
+    m, d = scene.model, scene.data
+    z = d.xpos[scene.unit_bodies, 2]
+    for k in np.flatnonzero(z < fall_z):
+        m.geom_contype[scene.unit_geoms[k]] = 0
+        m.geom_conaffinity[scene.unit_geoms[k]] = 0
+        b = scene.unit_bodies[k]
+        j = m.body_jntadr[b]
+        if j >= 0 and m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
+            d.qpos[m.jnt_qposadr[j] + 2] = fall_z - 10.0
+            d.qvel[m.jnt_dofadr[j] : m.jnt_dofadr[j] + 6] = 0.0
 
 
 def make_controller(method: Method, cfg: MRSConfig, terrain: dataset.Terrain):
@@ -133,6 +166,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
             status, reason = "fell", f"leader below z = {pr.fall_z} m"
             break
         if k % check_every == 0:
+            drop_fallen_units(sc, pr.fall_z)
             why = diverged(m, d, cfg.physics.max_speed, ignore_below=pr.fall_z)
             if why:
                 status, reason = "diverged", why

@@ -1,0 +1,56 @@
+"""Are the trials two stores have in common bitwise identical? (e.g. a Ray run against a local one)
+
+For every key present in both files, compares status, every metric and every time-series
+column exactly (NaN equals NaN). Prints one line per differing trial and a summary; exit
+status 1 if anything differs or nothing is shared.
+
+Usage: python tools/compare_stores.py results/terrabench.duckdb /tmp/ray.duckdb
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from terrabench.benchmark.store import ResultsStore
+
+
+def same_number(a: float, b: float) -> bool:
+    return (a != a and b != b) or a == b
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("a")
+    ap.add_argument("b")
+    args = ap.parse_args()
+    with ResultsStore(args.a, read_only=True) as sa, ResultsStore(args.b, read_only=True) as sb:
+        shared = sorted(sa.done_keys() & sb.done_keys())
+        ra = {r["key"]: r for r in sa.rows(keys=shared)}
+        rb = {r["key"]: r for r in sb.rows(keys=shared)}
+        differing = 0
+        for key in shared:
+            x, y = ra[key], rb[key]
+            why = []
+            if x["status"] != y["status"]:
+                why.append(f"status {x['status']} vs {y['status']}")
+            for name in sorted(set(x["metrics"]) | set(y["metrics"])):
+                if not same_number(x["metrics"].get(name, np.nan), y["metrics"].get(name, np.nan)):
+                    why.append(f"metric {name}")
+            ta, tb = sa.timeseries(key), sb.timeseries(key)
+            if list(ta) != list(tb):
+                why.append("series columns")
+            else:
+                why += [f"series {n}" for n in ta if not np.array_equal(ta[n], tb[n], equal_nan=True)]
+            if why:
+                differing += 1
+                print(f"{x['method']} {x['instance']} seed {x['seed']}: " + ", ".join(why))
+        print(f"{len(shared)} shared trials, {differing} differ "
+              f"(metrics, status and every series value compared exactly)")
+    sys.exit(1 if differing or not shared else 0)
+
+
+if __name__ == "__main__":
+    main()

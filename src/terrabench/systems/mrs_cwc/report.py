@@ -44,7 +44,7 @@ from terrabench.config import to_dict  # noqa: E402
 from terrabench.planning.astar import polyline_deviation  # noqa: E402
 from terrabench.report.terrain_plot import draw_terrain  # noqa: E402
 from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
-from terrabench.systems.mrs_cwc.methods import METHODS  # noqa: E402
+from terrabench.systems.mrs_cwc.methods import METHODS, config_for  # noqa: E402
 from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
 from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, TRIALS_PER_GROUP, paper_row  # noqa: E402
 from terrabench.systems.mrs_cwc.scenarios import summaries  # noqa: E402
@@ -181,7 +181,7 @@ def write_report(store, out_dir: Path) -> Path:
 # ------------------------------------------------------------------ variants and tables
 def find_variants(rows: list[dict[str, Any]]) -> list[Variant]:
     """The (method, config) variants of ``rows``: methods in :data:`METHODS` order (unknown
-    ones last), within a method the config with the most trials first."""
+    ones last), within a method the default config first, then the one with the most trials."""
     by_method: dict[str, dict[str, dict[str, Any]]] = {}
     counts: dict[tuple[str, str], int] = {}
     for r in rows:
@@ -192,18 +192,31 @@ def find_variants(rows: list[dict[str, Any]]) -> list[Variant]:
     for mid in sorted(by_method, key=lambda m: (order.get(m, len(order)), m)):
         configs = by_method[mid]
         base = METHODS[mid].label if mid in METHODS else mid
-        hashes = sorted(configs, key=lambda h: (-counts[(mid, h)], h))
+        default = _default_config(mid)
+        hashes = sorted(configs, key=lambda h: (configs[h] != default, -counts[(mid, h)], h))
         if len(hashes) == 1:
             out.append(Variant(mid, mid, hashes[0], base, configs[hashes[0]]))
             continue
         flat = {h: _flatten(configs[h]) for h in hashes}
         keys = sorted({k for f in flat.values() for k in f}, key=lambda k: (k != "waypoint_source", k))
         differing = [k for k in keys if len({canonical_json(flat[h].get(k)) for h in hashes}) > 1]
+        # a section only one variant reads (e.g. the planner's, with waypoint_source=planner)
+        # differs by absence; name the settings every variant has, when they tell them apart
+        shared = [k for k in differing if all(k in flat[h] for h in hashes)]
+        if shared and len({tuple(canonical_json(flat[h][k]) for k in shared) for h in hashes}) == len(hashes):
+            differing = shared
         labels = {h: f"{base} ({_describe(flat[h], differing)})" for h in hashes}
         if len(set(labels.values())) < len(labels):  # the shown keys did not tell them apart
             labels = {h: f"{label} [{h[:8]}]" for h, label in labels.items()}
         out += [Variant(f"{mid}@{h[:8]}", mid, h, labels[h], configs[h]) for h in hashes]
     return out
+
+
+def _default_config(mid: str) -> dict[str, Any] | None:
+    """The config this version plans for ``mid`` with no overrides (None for unknown methods)."""
+    if mid not in METHODS:
+        return None
+    return json.loads(canonical_json(config_for(METHODS[mid], to_dict(MRSConfig()))))
 
 
 def _flatten(cfg: dict[str, Any], prefix: str = "") -> dict[str, Any]:

@@ -57,21 +57,17 @@ class PhysicsConfig:
         spec.option.gravity = [0.0, 0.0, self.gravity]
 
 
-def diverged(model: mujoco.MjModel, data: mujoco.MjData, max_speed: float, ignore_below: float | None = None) -> str | None:
+def diverged(model: mujoco.MjModel, data: mujoco.MjData, max_speed: float) -> str | None:
     """A reason string if the simulation blew up, else None.
 
     MuJoCo silently resets the state when accelerations go bad (``mjWARN_BADQACC``); a reset
     would look like a teleport to the start, so it is treated as divergence too.
-    ``ignore_below``: degrees of freedom of bodies below this height are left out of the speed
-    check: a body that fell off the edge of the world is in free fall, not unstable.
     """
     if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
         return "bad accelerations (MuJoCo reset the state)"
     qv = data.qvel
     if not np.isfinite(qv).all() or not np.isfinite(data.qpos).all():
         return "non-finite state"
-    if ignore_below is not None:
-        qv = qv[data.xpos[model.dof_bodyid, 2] >= ignore_below]
-    if qv.size and np.abs(qv).max() > max_speed:
+    if np.abs(qv).max() > max_speed:
         return f"speed above {max_speed} (instability)"
     return None

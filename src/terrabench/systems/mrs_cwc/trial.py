@@ -167,7 +167,7 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
             break
         if k % check_every == 0:
             drop_fallen_units(sc, pr.fall_z)
-            why = diverged(m, d, cfg.physics.max_speed, ignore_below=pr.fall_z)
+            why = diverged(m, d, cfg.physics.max_speed)
             if why:
                 status, reason = "diverged", why
                 break

@@ -27,32 +27,20 @@ from terrabench.terrain import dataset
 def record(terrain_id: str, cfg: MRSConfig, method_id: str = "cwc-tdt") -> dict[str, np.ndarray]:
     """Run one trial and return the law's inputs and terms at every control period."""
     rows: list[tuple[float, ...]] = []
-    original = trial.make_controller
+    state = {"k": None, "rate": None}
 
-    def recording_controller(method, cfg_, terrain):
-        guidance, body = original(method, cfg_, terrain)
-        law = body.law
-        update = law.update
+    def sample(scene, obs, cmd, body) -> None:
+        law, c = body.law, body.law.cfg
+        rate, (tau_l, tau_r) = float(obs.yaw_rate[0]), obs.wheel_torque[0]
+        alpha = 0.0 if state["rate"] is None else (rate - state["rate"]) / c.control_period
+        k_prev = c.k_init if state["k"] is None else state["k"]  # the K the law just used
+        rows.append((c.inertia * alpha, c.motor_gain * (tau_r - tau_l), k_prev * float(obs.joint_yaw[0]),
+                     law.tau_env, law.k, float(law.soft), law.memory))
+        state["k"], state["rate"] = law.k, rate
 
-        def update_and_record(e, yaw_rate, tau_l, tau_r, q1):
-            k_prev, rate_prev = law.k, law._prev_rate
-            k = update(e, yaw_rate, tau_l, tau_r, q1)
-            c = law.cfg
-            alpha = 0.0 if rate_prev is None else (yaw_rate - rate_prev) / c.control_period
-            rows.append((c.inertia * alpha, c.motor_gain * (tau_r - tau_l), k_prev * q1, law.tau_env,
-                         k, float(law.soft), law.memory, e))
-            return k
-
-        law.update = update_and_record
-        return guidance, body
-
-    trial.make_controller = recording_controller
-    try:
-        status, metrics, _, _ = trial.run(get_method(method_id), dataset.get(terrain_id), cfg)
-    finally:
-        trial.make_controller = original
+    status, metrics, _, _ = trial.run(get_method(method_id), dataset.get(terrain_id), cfg, on_step=sample)
     a = np.array(rows)
-    names = ("I_alpha", "tau_m", "K_q", "tau_env", "K", "soft", "memory", "e")
+    names = ("I_alpha", "tau_m", "K_q", "tau_env", "K", "soft", "memory")
     out = {n: a[:, i] for i, n in enumerate(names)}
     out["status"], out["NCR"] = status, metrics["NCR"]
     return out

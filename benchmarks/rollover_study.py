@@ -1,6 +1,6 @@
 """How often does the chain roll over in the first minutes, and was it stiffening just before?
 
-For each terrain, run a method for ``--horizon`` seconds with the benchmark's loop and record
+For each terrain, run a method for ``--horizon`` seconds in the benchmark's loop and record
 the first time the chain is on its side (mean over the units of the body z-axis's vertical
 component below ``--side``), the yaw stiffness then and 2 s before, and the largest yaw-joint
 bend in those 2 s. It answers: do our CWC failures in group B start with a roll-over, and does
@@ -13,50 +13,38 @@ from __future__ import annotations
 
 import argparse
 
-import mujoco
+from dataclasses import replace
+
 import numpy as np
 from rich.console import Console
 
 from terrabench.config import override, parse_overrides
-from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc import trial
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import get_method
-from terrabench.systems.mrs_cwc.sensing import Observation
 from terrabench.terrain import dataset
 
 
 def first_rollover(terrain_id: str, method_id: str, cfg: MRSConfig, horizon: float, side: float) -> dict:
-    method, terrain = get_method(method_id), dataset.get(terrain_id)
-    sc = trial.build_scene(terrain, method, cfg)
-    m, d = sc.model, sc.data
-    n = cfg.chain.n_units
-    guidance, body = trial.make_controller(method, cfg, terrain)
-    obs = Observation(m, d, n, cfg.protocol.target_xy)
-    cmd = ctl.Command(n)
-    err = cfg.chain.wheel_torque_limit / cfg.chain.wheel_kv
+    """The benchmark loop for ``horizon`` seconds; the first time the chain is on its side."""
+    cfg = replace(cfg, protocol=replace(cfg.protocol, timeout=horizon))
     period = cfg.protocol.control_period
-    nsub = int(round(period / cfg.physics.timestep))
-    units = [m.body(f"unit{k}").id for k in range(n)]
     window = int(round(2.0 / period))
-    k_hist, q_hist = [], []
-    for step in range(int(horizon / period)):
-        obs.refresh()
-        up = float(np.mean(d.xmat[units, 8]))
-        if step * period > 5.0 and up < side:  # after the drop has settled
-            back = max(0, len(k_hist) - window)
-            return {"t": step * period, "K_then": k_hist[-1], "K_2s_before": k_hist[back],
-                    "max_bend": float(np.max(np.abs(q_hist[back:]))) if q_hist[0].size else float("nan")}
-        body(obs, guidance.heading(obs), cmd)
-        d.ctrl[sc.wheel_act] = np.clip(cmd.wheel_speed, obs.wheel_speed - err, obs.wheel_speed + err)
-        if cmd.yaw_stiffness is not None:
-            m.jnt_stiffness[sc.yaw_joints] = cmd.yaw_stiffness
-        if len(sc.yaw_servos):
-            d.ctrl[sc.yaw_servos] = cmd.yaw_target
+    k_hist: list[float] = []
+    q_hist: list[np.ndarray] = []
+    found: dict = {"t": float("nan")}
+
+    def sample(scene, obs, cmd, body) -> None:
         k_hist.append(cmd.yaw_stiffness if cmd.yaw_stiffness is not None else float("nan"))
         q_hist.append(obs.joint_yaw.copy())
-        mujoco.mj_step(m, d, nsub)
-    return {"t": float("nan")}
+        up = float(np.mean(scene.data.xmat[scene.unit_bodies, 8]))
+        if found["t"] != found["t"] and obs.t > 5.0 and up < side:  # after the drop has settled
+            back = max(0, len(k_hist) - 1 - window)
+            found.update(t=obs.t, K_then=k_hist[-1], K_2s_before=k_hist[back],
+                         max_bend=float(np.max(np.abs(q_hist[back:]))) if q_hist[0].size else float("nan"))
+
+    trial.run(get_method(method_id), dataset.get(terrain_id), cfg, on_step=sample)
+    return found
 
 
 def main() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Callable
 
 import mujoco
 import numpy as np
@@ -116,11 +117,14 @@ def waypoints_for(terrain: dataset.Terrain, cfg: MRSConfig) -> np.ndarray:
     return plan_waypoints(terrain, cfg)
 
 
-def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
+def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig,
+        on_step: Callable[[Scene, Observation, ctl.Command, ctl.BodyLaw], None] | None = None):
     """Run one trial. Returns ``(status, metrics, timeseries, info)``.
 
     The loop runs the controller every control period and ``mj_step`` with ``nstep`` physics
-    steps in between, so the engine does the inner loop in C.
+    steps in between, so the engine does the inner loop in C. ``on_step(scene, obs, cmd,
+    body)``, if given, is called once per control period after the command is applied (for
+    studies that sample more than the stored series; it must not change the state).
     """
     wall0 = time.perf_counter()
     sc = build_scene(terrain, method, cfg)
@@ -181,6 +185,8 @@ def run(method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
             k_log[k] = cmd.yaw_stiffness
         if has_servo:
             ctrl[yaw_servos] = cmd.yaw_target
+        if on_step is not None:
+            on_step(sc, obs, cmd, body)
         tau_log[k] = body.tau_env
         power = np.abs(wheel_torque * wheel_speed).sum()
         if has_servo:

@@ -28,8 +28,17 @@ def test_list_shows_systems_scenarios_and_every_method():
         (["run", "mrs-cwc", "--group", "Q"], "valid: A, B, all"),
         (["run", "mrs-cwc", "--methods", "cwc-magic"], "valid: cwc-tdt"),
         (["run", "mrs-cwc", "--backend", "slurm"], "valid: local, ray"),
-        (["run", "mrs-cwc", "--timeout", "0"], "--timeout must be positive"),
-        (["run", "mrs-cwc", "--timeout", "-5"], "--timeout must be positive"),
+        (["run", "mrs-cwc", "--timeout", "0"], "--timeout must be a positive finite number"),
+        (["run", "mrs-cwc", "--timeout", "-5"], "--timeout must be a positive finite number"),
+        (["run", "mrs-cwc", "--timeout", "inf"], "--timeout must be a positive finite number"),
+        (["run", "mrs-cwc", "--terrains", ""], "--terrains was given an empty list"),
+        (["run", "mrs-cwc", "--terrains", ","], "--terrains was given an empty list"),
+        (["run", "mrs-cwc", "--group", ""], "--group was given an empty value"),
+        (["run", "mrs-cwc", "--seeds", "0"], "--seeds must be at least 1"),
+        (["run", "mrs-cwc", "--set", "physics=1"], "'physics' is a section"),
+        (["run", "mrs-cwc", "--set", "physics.timestep=abc"], "expects a number"),
+        (["run", "mrs-cwc", "--address", "127.0.0.1:9"], "needs --backend ray"),
+        (["run", "beams", "--group", "open-loop", "--set", "k1=abc"], "k1"),
         (["run", "nosuch"], "valid: mrs-cwc"),
         (["run", "mrs-cwc", "--set", "physics.nope=1"], "unknown config key 'physics.nope'"),
         (["terrain", "show", "Z-1"], "unknown terrain id"),
@@ -41,6 +50,13 @@ def test_bad_input_gives_one_clear_line_and_exit_2(args, needle, tmp_path):
     assert r.exit_code == 2, r.output
     assert needle in r.text
     assert "Traceback" not in r.output
+
+
+def test_version_is_printed():
+    from terrabench import __version__
+
+    r = invoke("--version")
+    assert r.exit_code == 0 and __version__ in r.output
 
 
 def test_bad_store_version_is_refused_without_touching_it(tmp_path):
@@ -85,7 +101,7 @@ def test_perf_reports_both_throughputs_and_their_ratio():
     assert r.exit_code == 0, r.output
     assert "loop/raw" in r.text and "B-05" in r.text
     r = invoke("perf", "mrs-cwc", "--seconds", "-1")
-    assert r.exit_code == 2 and "seconds must be positive" in r.text
+    assert r.exit_code == 2 and "seconds must be a positive" in r.text
 
 
 def test_generate_then_stats_round_trips_and_a_bad_csv_is_refused(tmp_path):

@@ -11,7 +11,7 @@ from terrabench.systems.mrs_cwc.sensing import wrap
 
 
 def law(**kw):
-    return ctl.StiffnessLaw(ctl.StiffnessLawConfig(**kw))
+    return ctl.StiffnessLaw(ctl.StiffnessLawConfig(**kw), 0.025)
 
 
 def test_wrap_range():
@@ -110,7 +110,7 @@ def test_waypoints_advance_skip_and_time_out():
 
 
 def test_followers_copy_the_predecessor_heading():
-    body = ctl.CWCLaw(3, ctl.DriveConfig(), ctl.StiffnessLawConfig())
+    body = ctl.CWCLaw(3, ctl.DriveConfig(), ctl.StiffnessLawConfig(), 0.025)
     cmd = ctl.Command(3)
     obs = fake_obs(np.zeros((3, 3)), [0.0, 0.2, 0.0])
     body(obs, 0.0, cmd)

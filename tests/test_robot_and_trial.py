@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from terrabench.config import override
-from terrabench.systems.mrs_cwc import trial
+from terrabench.systems.mrs_cwc import task as trial
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import METHODS, get_method
 from terrabench.systems.mrs_cwc.robot import ChainConfig, add_chain
@@ -52,7 +52,8 @@ def test_centre_of_mass_sits_below_the_wheel_axles():
 def test_every_method_runs_two_seconds_without_trouble(mid, flat_terrain):
     # the flat test terrain has no released waypoints: the A* methods plan their own
     cfg = override(MRSConfig(), {"protocol.timeout": 2.0, "waypoint_source": "planner"})
-    status, metrics, series, info = trial.run(get_method(mid), flat_terrain, cfg)
+    r = trial.run(get_method(mid), flat_terrain, cfg)
+    status, metrics, series, info = r.status, r.metrics, r.timeseries, r.info
     assert status == "timeout" and info["control_steps"] == 80
     assert list(series) == list(trial.TIMESERIES)
     assert np.all(np.diff(series["energy"]) >= 0) and metrics["energy"] > 0
@@ -60,7 +61,8 @@ def test_every_method_runs_two_seconds_without_trouble(mid, flat_terrain):
 
 def test_flat_straight_run_reaches_the_target_with_nef_near_one(flat_terrain):
     cfg = override(MRSConfig(), {"protocol.target_xy": [3.0, 0.0], "protocol.timeout": 60.0})
-    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
     assert status == "success"
     assert m["NCR"] == 1.0
     # the 0.5 m drop at the start adds ~0.5 m to a ~2.5 m journey
@@ -72,7 +74,8 @@ def test_flat_straight_run_reaches_the_target_with_nef_near_one(flat_terrain):
 
 def test_the_yaw_stiffness_reaches_the_model_and_bends_follow_the_law(flat_terrain):
     cfg = override(MRSConfig(), {"protocol.target_xy": [0.0, 5.0], "protocol.timeout": 20.0})
-    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
     k = series["K"][np.isfinite(series["K"])]
     assert k[0] == pytest.approx(0.03 * 5 + 0.97 * 0.1, rel=1e-6)
     assert np.all((k > 0) & (k <= 100))
@@ -84,21 +87,22 @@ def test_same_spec_same_numbers(flat_terrain):
     cfg = override(MRSConfig(), {"protocol.timeout": 5.0})
     a = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
     b = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
-    assert a[1] == b[1]
-    for k in a[2]:
-        np.testing.assert_array_equal(a[2][k], b[2][k])
+    assert a.metrics == b.metrics
+    for k in a.timeseries:
+        np.testing.assert_array_equal(a.timeseries[k], b.timeseries[k])
 
 
 def test_instability_ends_the_trial_as_diverged(flat_terrain):
     # any speed above 0.01 is declared a blow-up: the wheels spin at 1.5 rad/s within a second
     cfg = override(MRSConfig(), {"physics.max_speed": 0.01, "protocol.timeout": 5.0})
-    status, m, series, info = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
+    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
     assert status == "diverged" and "speed" in info["reason"]
 
 
 def test_start_is_dropped_above_the_sampled_terrain():
     t = dataset.get("B-03")
-    sc = trial.build_scene(t, get_method("cwc-tdt"), MRSConfig())
+    sc = trial.bound(get_method("cwc-tdt"), t, MRSConfig())
     from terrabench.terrain import sine_sum
 
     xs = np.array(MRSConfig().protocol.drop_probe_x)
@@ -113,21 +117,21 @@ def test_control_period_must_be_whole_physics_steps():
 
 
 def test_bad_timeout_is_rejected():
-    with pytest.raises(ValueError, match="timeout must be positive"):
+    with pytest.raises(ValueError, match="timeout must be"):
         override(MRSConfig(), {"protocol.timeout": 0})
 
 
 def test_a_unit_that_fell_off_the_world_stops_colliding_and_is_parked(flat_terrain):
     import mujoco
 
-    sc = trial.build_scene(flat_terrain, get_method("d-tdt"), MRSConfig())
+    sc = trial.bound(get_method("d-tdt"), flat_terrain, MRSConfig())
     m, d = sc.model, sc.data
     assert [len(g) for g in sc.unit_geoms] == [4, 3, 3, 3, 3, 3]  # body + 2 wheels (+ bumper)
     j = m.body_jntadr[sc.unit_bodies[3]]
     d.qpos[m.jnt_qposadr[j] + 2] = -70.0
     d.qvel[m.jnt_dofadr[j] + 2] = -40.0
     mujoco.mj_forward(m, d)
-    trial.drop_fallen_units(sc, -50.0)
+    sc.drop_fallen_units(-50.0)
     assert np.all(m.geom_contype[sc.unit_geoms[3]] == 0) and np.all(m.geom_conaffinity[sc.unit_geoms[3]] == 0)
     assert d.qpos[m.jnt_qposadr[j] + 2] == -60.0 and np.all(d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + 6] == 0)
     assert np.all(m.geom_conaffinity[sc.unit_geoms[2]] != 0)  # the others still collide

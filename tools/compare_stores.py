@@ -5,6 +5,11 @@ column exactly (NaN equals NaN). Prints one line per differing trial and a summa
 status 1 if anything differs or nothing is shared.
 
 Usage: python tools/compare_stores.py results/terrabench.duckdb /tmp/ray.duckdb
+       python tools/compare_stores.py before.duckdb after.duckdb --by trial
+
+``--by trial`` pairs rows by (system, method, instance, seed) instead of by key: for comparing
+results across a change that re-keys trials (a config field moved or renamed) but must not
+change a number.
 """
 
 from __future__ import annotations
@@ -25,11 +30,14 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("a")
     ap.add_argument("b")
+    ap.add_argument("--by", choices=("key", "trial"), default="key",
+                    help="pair rows by store key (default) or by (system, method, instance, seed)")
     args = ap.parse_args()
+    ident = (lambda r: r["key"]) if args.by == "key" else (lambda r: (r["system"], r["method"], r["instance"], r["seed"]))
     with ResultsStore(args.a, read_only=True) as sa, ResultsStore(args.b, read_only=True) as sb:
-        shared = sorted(sa.done_keys() & sb.done_keys())
-        ra = {r["key"]: r for r in sa.rows(keys=shared)}
-        rb = {r["key"]: r for r in sb.rows(keys=shared)}
+        ra = {ident(r): r for r in sa.rows()}
+        rb = {ident(r): r for r in sb.rows()}
+        shared = sorted(set(ra) & set(rb), key=str)
         differing = 0
         for key in shared:
             x, y = ra[key], rb[key]
@@ -39,7 +47,7 @@ def main() -> None:
             for name in sorted(set(x["metrics"]) | set(y["metrics"])):
                 if not same_number(x["metrics"].get(name, np.nan), y["metrics"].get(name, np.nan)):
                     why.append(f"metric {name}")
-            ta, tb = sa.timeseries(key), sb.timeseries(key)
+            ta, tb = sa.timeseries(x["key"]), sb.timeseries(y["key"])
             if list(ta) != list(tb):
                 why.append("series columns")
             else:

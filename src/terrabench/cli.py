@@ -25,7 +25,6 @@ err_console = Console(stderr=True)
 
 DEFAULT_STORE = Path("results") / "terrabench.duckdb"
 
-
 def friendly(fn: Callable) -> Callable:
     """Turn ValueError (our 'bad input' signal) into one clear line and exit status 2."""
 
@@ -39,13 +38,26 @@ def friendly(fn: Callable) -> Callable:
 
     return wrapper
 
-
-def _split(value: Optional[str]) -> Optional[list[str]]:
+def _split(value: Optional[str], flag: str = "") -> Optional[list[str]]:
+    """``"a,b"`` -> ``["a", "b"]``; None stays None; an empty list is bad input, not 'all'."""
     if value is None:
         return None
     items = [v.strip() for v in value.split(",") if v.strip()]
-    return items or None
+    if not items:
+        raise ValueError(f"{flag or 'a list option'} was given an empty list ({value!r}); name at least one id")
+    return items
 
+def _version(value: bool) -> None:
+    if value:
+        from terrabench import __version__
+
+        console.print(f"terrabench {__version__}")
+        raise typer.Exit()
+
+@app.callback()
+def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print the version and exit")) -> None:
+    """Robots that cross unknown rough terrain by touching it."""
 
 @app.command("list")
 @friendly
@@ -59,7 +71,12 @@ def list_cmd() -> None:
         for r in reg.entries(kind):
             prefix = f"{r.system}:" if kind == "method" else ""
             console.print(f"  {prefix}{r.id:<28} {r.summary}", highlight=False)
+    console.print("[bold]environments[/] (gymnasium.make)")
+    from terrabench.catalog import system as get_system
 
+    for r in reg.entries("system"):
+        for env_id in get_system(r.id).env_ids:
+            console.print(f"  {env_id:<28} {r.id}", highlight=False)
 
 @app.command()
 @friendly
@@ -67,7 +84,7 @@ def run(
     system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
     methods: Optional[str] = typer.Option(None, help="comma-separated method ids, or 'all'"),
     terrains: Optional[str] = typer.Option(None, help="comma-separated terrain/case ids, e.g. A-01,B-07"),
-    group: Optional[str] = typer.Option(None, help="terrain group: A, B or all (default all)"),
+    group: Optional[str] = typer.Option(None, help="instance group (mrs-cwc: A, B or all); see `terrabench list`"),
     seeds: int = typer.Option(1, help="seeds per (method, terrain); seed 0 is the released protocol"),
     backend: str = typer.Option("local", help="local or ray"),
     workers: Optional[int] = typer.Option(None, help="parallel trials (default: all cores)"),
@@ -84,23 +101,31 @@ def run(
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
 
-    if timeout is not None and not timeout > 0:
-        raise ValueError(f"--timeout must be positive seconds, got {timeout}")
-    if threshold is not None and not threshold > 0:
-        raise ValueError(f"--threshold must be positive metres, got {threshold}")
+    from terrabench.systems.base import check_finite_positive
+
+    if timeout is not None:
+        check_finite_positive("--timeout", timeout, "simulated seconds")
+    if threshold is not None:
+        check_finite_positive("--threshold", threshold, "m")
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
     if workers is not None and workers < 1:
         raise ValueError(f"--workers must be at least 1, got {workers}")
+    if address is not None and backend != "ray":
+        raise ValueError(f"--address {address!r} needs --backend ray (the local backend has no cluster)")
+    if seeds < 1:
+        raise ValueError(f"--seeds must be at least 1, got {seeds}")
     sysobj = get_system(system)
     overrides = parse_overrides(set_)
-    for value, attr, flag in ((timeout, "timeout_key", "--timeout"), (threshold, "threshold_key", "--threshold")):
+    for value, key, flag in ((timeout, sysobj.timeout_key, "--timeout"), (threshold, sysobj.threshold_key, "--threshold")):
         if value is not None:
-            key = getattr(sysobj, attr, None)
             if key is None:
                 raise ValueError(f"system {system!r} has no {flag} setting")
             overrides[key] = value
-    specs = sysobj.plan(methods=_split(methods), instances=_split(terrains), group=group, seeds=seeds, overrides=overrides)
+    if group is not None and not group.strip():
+        raise ValueError(f"--group was given an empty value; valid: {', '.join(list(sysobj.groups) + ['all'])}")
+    specs = sysobj.plan(methods=_split(methods, "--methods"), instances=_split(terrains, "--terrains"),
+                        group=group, seeds=seeds, overrides=overrides)
     signal.signal(signal.SIGTERM, _interrupt)  # a scheduler's TERM stops as cleanly as Ctrl-C
     with ResultsStore(store) as st:
         summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
@@ -117,10 +142,8 @@ def run(
         err_console.print("[yellow]interrupted:[/] finished trials are stored; run the same command to resume.")
         raise typer.Exit(130)
 
-
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
-
 
 def _run_with_progress(run_trials, specs, store, backend, workers, address):
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
@@ -149,7 +172,6 @@ def _run_with_progress(run_trials, specs, store, backend, workers, address):
         return run_trials(specs, store, backend=backend, workers=workers, address=address,
                           on_result=on_result, on_start=on_start)
 
-
 def _trial_table(rows, sysobj):
     from rich.table import Table
 
@@ -158,11 +180,10 @@ def _trial_table(rows, sysobj):
         t.add_column(c)
     for r in rows:
         m = r["metrics"]
-        keys = getattr(sysobj, "headline_metrics", None) or [k for k, v in m.items() if isinstance(v, (int, float))][:6]
+        keys = sysobj.headline_metrics or [k for k, v in m.items() if isinstance(v, (int, float))][:6]
         shown = " ".join(f"{k}={m[k]:.3g}" for k in keys if k in m)
         t.add_row(r["method"], r["instance"], str(r["seed"]), r["status"], shown, f"{r['wall_time']:.1f}")
     return t
-
 
 @app.command()
 @friendly
@@ -181,23 +202,21 @@ def report(
         path = sysobj.report(st, out)
     console.print(f"report written: {path}")
 
-
 @app.command()
 @friendly
 def perf(
     system: str = typer.Argument("mrs-cwc", help="system id"),
-    method: str = typer.Option("cwc-tdt", help="method whose model and loop are timed"),
-    terrains: Optional[str] = typer.Option(None, help="terrain ids (default: a sample of group B)"),
+    method: Optional[str] = typer.Option(None, help="method whose model and loop are timed (default: the system's first)"),
+    terrains: Optional[str] = typer.Option(None, help="instance ids (default: the system's perf sample)"),
     seconds: float = typer.Option(30.0, help="simulated seconds per measurement"),
 ) -> None:
-    """Raw mj_step throughput vs the full trial loop on the same model: steps/s, RTF, ratio."""
-    if system != "mrs-cwc":
-        raise ValueError(f"perf is implemented for system 'mrs-cwc' only, got {system!r}")
-    from terrabench.systems.mrs_cwc.perf import measure, perf_table
+    """The episode loop vs raw mj_step replaying the same commands: steps/s, RTF, ratio."""
+    from terrabench.catalog import system as get_system
+    from terrabench.sim.perf import measure, perf_table
 
-    rows = measure(method, _split(terrains), seconds)
-    console.print(perf_table(rows))
-
+    sysobj = get_system(system)
+    rows = measure(sysobj, method, _split(terrains, "--terrains"), seconds)
+    console.print(perf_table(system, rows))
 
 @terrain_app.command("stats")
 @friendly
@@ -217,13 +236,12 @@ def terrain_stats(
     if csv is not None:
         chosen = [dataset.Terrain(f"row-{k}", "-", k, p) for k, p in enumerate(dataset.load_csv(csv), start=1)]
     else:
-        chosen = dataset.select(_split(terrains), group)
+        chosen = dataset.select(_split(terrains, "--terrains"), group)
     for ter in chosen:
         s = ter.stats()
         t.add_row(ter.id, f"{s['mean_axis_slope_deg']:.1f}", f"{s['max_slope_deg']:.1f}",
                   f"{s['mean_slope_deg']:.1f}", f"{s['relief_m']:.2f}")
     console.print(t)
-
 
 @terrain_app.command("generate")
 @friendly
@@ -248,7 +266,6 @@ def terrain_generate(
     dataset.write_csv(params, out)
     console.print(f"wrote {n} terrains with mean axis slope in [{lo}, {hi}) deg to {out}")
 
-
 @terrain_app.command("show")
 @friendly
 def terrain_show(
@@ -266,9 +283,9 @@ def terrain_show(
     if store.exists():
         from terrabench.benchmark.store import ResultsStore
 
-        wanted = _split(methods)
+        wanted = _split(methods, "--methods")
         with ResultsStore(store, read_only=True) as st:
-            for r in st.rows(system="mrs-cwc"):
+            for r in st.rows():
                 if r["instance"] == ter.id and r["seed"] == 0 and (wanted is None or r["method"] in wanted):
                     ts = st.timeseries(r["key"])
                     if "x" in ts:
@@ -277,11 +294,9 @@ def terrain_show(
     plot_terrain(ter, out, paths)
     console.print(f"wrote {out} ({len(paths)} stored path(s) drawn)")
 
-
 def main() -> None:
     os.environ.setdefault("MPLBACKEND", "Agg")
     app()
-
 
 if __name__ == "__main__":
     main()

@@ -8,6 +8,7 @@ Configs are nested frozen dataclasses; a run stores ``to_dict(cfg)`` with every 
 from __future__ import annotations
 
 import dataclasses
+import math
 import typing
 from typing import Any, Mapping, TypeVar
 
@@ -59,19 +60,63 @@ def _set(obj: Any, parts: list[str], value: Any, full: str) -> Any:
     head = parts[0]
     if head not in names:
         raise ValueError(f"unknown config key {full!r} (at {head!r}); valid here: {', '.join(names)}")
+    current = getattr(obj, head)
     if len(parts) == 1:
-        current = getattr(obj, head)
-        if isinstance(current, bool):
-            value = value if isinstance(value, bool) else str(value).lower() in ("1", "true", "yes")
-        elif isinstance(current, (int, float)) and not isinstance(value, (int, float)):
+        if dataclasses.is_dataclass(current):
+            sub = ", ".join(f"{full}.{f.name}" for f in dataclasses.fields(current))
+            raise ValueError(f"config key {full!r} is a section; set one of its fields: {sub}")
+        value = _coerce(current, value, full)
+        try:
+            return dataclasses.replace(obj, **{head: value})
+        except (TypeError, ArithmeticError) as exc:
+            raise ValueError(f"config key {full!r} = {value!r} is invalid: {exc}") from None
+    if not dataclasses.is_dataclass(current):
+        raise ValueError(f"config key {full!r}: {head!r} is a value, not a section")
+    return dataclasses.replace(obj, **{head: _set(current, parts[1:], value, full)})
+
+
+def _coerce(current: Any, value: Any, full: str) -> Any:
+    """``value`` as the type of the field's current value; ValueError naming the key otherwise."""
+    if isinstance(current, bool):
+        if isinstance(value, bool):
+            return value
+        text = str(value).lower()
+        if text in ("1", "true", "yes", "on"):
+            return True
+        if text in ("0", "false", "no", "off"):
+            return False
+        raise ValueError(f"config key {full!r} expects true or false, got {value!r}")
+    if isinstance(current, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise ValueError(f"config key {full!r} expects a number, got {value!r}")
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan") if isinstance(current, float) else None
+            if isinstance(current, int) or str(value).strip().lower() != "nan":
+                kind = "an integer" if isinstance(current, int) else "a number"
+                raise ValueError(f"config key {full!r} expects {kind}, got {value!r}") from None
+        if isinstance(current, int):
+            if not number.is_integer():
+                raise ValueError(f"config key {full!r} expects an integer, got {value!r}")
+            return int(number)
+        if not math.isfinite(number):
+            raise ValueError(f"config key {full!r} expects a finite number, got {value!r}")
+        return number
+    if isinstance(current, str):
+        if not isinstance(value, (str, int, float)) or isinstance(value, bool):
+            raise ValueError(f"config key {full!r} expects a string, got {value!r}")
+        return str(value)
+    if isinstance(current, tuple):
+        if not isinstance(value, (list, tuple)):
+            raise ValueError(f"config key {full!r} expects a list like {list(current)!r}, got {value!r}")
+        if current and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in current):
             try:
-                value = type(current)(value)
-            except ValueError:
-                raise ValueError(f"config key {full!r} expects a number, got {value!r}") from None
-        elif isinstance(current, tuple) and isinstance(value, list):
-            value = tuple(value)
-        return dataclasses.replace(obj, **{head: value})
-    return dataclasses.replace(obj, **{head: _set(getattr(obj, head), parts[1:], value, full)})
+                return tuple(float(v) for v in value)
+            except (TypeError, ValueError):
+                raise ValueError(f"config key {full!r} expects a list of numbers, got {value!r}") from None
+        return tuple(value)
+    return value
 
 
 def parse_overrides(items: list[str]) -> dict[str, Any]:

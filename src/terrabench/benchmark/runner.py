@@ -1,7 +1,8 @@
 """Run trial specs on local processes or a Ray cluster, writing each result as it lands.
 
 The runner knows nothing about robots: it ships a :class:`TrialSpec` to a worker, the worker
-looks the system up in the catalog and calls ``SYSTEM.run_trial(spec)``. Every finished trial
+looks the system up in the catalog and calls its ``run_trial(spec)`` (the contract in
+:mod:`terrabench.systems.base`). Every finished trial
 is written to the store at once, so an interrupted run loses only the trials in flight, and a
 re-run skips the keys already stored. A trial that raises becomes a row with status
 ``error`` (and the traceback in ``info``), never a lost run.

@@ -1,38 +1,315 @@
-"""The contract between a system and the shared runner, store, reports and CLI."""
+"""The contract between a system and the hallway (runner, store, CLI, envs, perf, render).
+
+A system writes four things and registers one object:
+
+* a **Task** (:class:`Task`): one episode of the robot on one instance. It builds its arena and
+  robot into an ``MjSpec`` with named parts, binds the names to ids and sensor views, applies a
+  command (limits and run-time model changes included), checks whether to stop, logs one row,
+  reports instantaneous power, and turns the finished :class:`~terrabench.sim.episode.EpisodeLog`
+  into named metrics. The shared loop in :mod:`terrabench.sim.episode` steps it.
+* a **Controller**: a callable ``obs -> cmd`` that sees only the task's observation (what the
+  real robot measures), never the simulator.
+* its **scenarios**: methods, instances and groups, the config class.
+* its **report**: ``summarize(rows)`` (a rich table beside the paper) and ``report(store, out)``.
+
+:class:`System` holds the generic parts (planning trial specs from a user's request, resolving
+and validating configs, running one spec through the episode loop); a system subclasses it and
+fills the hooks. The CLI and runner read nothing else: ``timeout_key`` names the config field
+that ``--timeout`` sets, ``headline_metrics`` the columns of the per-trial table.
+"""
 
 from __future__ import annotations
 
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol, Sequence
+from typing import Any, Callable, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
+from terrabench.config import from_dict, override, to_dict
 
 
-class System(Protocol):
-    """What the hallway needs from a system.
+@runtime_checkable
+class Task(Protocol):
+    """One episode of a MuJoCo system (see :mod:`terrabench.sim.episode` for the loop order).
 
-    ``run_trial`` must be importable by reference (a module-level function or a method of a
-    module-level object) because the runner ships specs to worker processes or Ray tasks.
+    Attributes:
+        physics: :class:`~terrabench.sim.physics.PhysicsConfig` of the scene.
+        timing: :class:`~terrabench.sim.episode.Timing` (control period, timeout, cadences).
+        columns: names of the values :meth:`row` returns, in order.
+        before_substep: optional ``(model, data) -> None`` called before every physics step
+            (e.g. soil forces into ``data.xfrc_applied``); absent or None keeps the C fast path.
+        mutable_model_fields: names of ``MjModel`` arrays that :meth:`apply` changes at run
+            time (e.g. ``("jnt_stiffness",)``), so ``terrabench perf`` can replay an episode.
     """
 
-    name: str
+    physics: Any
+    timing: Any
+    columns: tuple[str, ...]
 
-    def plan(
-        self,
-        *,
-        methods: Sequence[str] | None,
-        instances: Sequence[str] | None,
-        group: str | None,
-        seeds: int,
-        overrides: dict[str, Any],
-    ) -> list[TrialSpec]:
-        """Expand a user's request into trial specs (raises ValueError on bad ids)."""
+    def build(self, spec: Any) -> None:
+        """Add the arena and the robot to an empty ``mujoco.MjSpec`` (physics is set already)."""
 
-    def run_trial(self, spec: TrialSpec) -> TrialResult:
-        """Run one trial; never raises for physics trouble (returns a status instead)."""
+    def bind(self, model: Any, data: Any) -> Any:
+        """Resolve names to ids after compiling; return the observation object."""
 
+    def observe(self) -> Any:
+        """The observation after the last physics step (may be the same object, refreshed)."""
+
+    def apply(self, cmd: Any) -> None:
+        """Write a command into ``data.ctrl`` / the model (limits applied here)."""
+
+    def check(self, obs: Any, slow: bool) -> tuple[str, str] | None:
+        """``(status, reason)`` to stop, else None. ``slow`` every ``timing.check_period``."""
+
+    def row(self, obs: Any, cmd: Any | None) -> Sequence[float]:
+        """One log row (``cmd`` None at the final instant: command columns NaN)."""
+
+    def power(self, obs: Any) -> float:
+        """Instantaneous electrical-mechanical power drawn (W), for the energy integral."""
+
+    def metrics(self, log: Any) -> dict[str, float]:
+        """Named figures of the finished episode."""
+
+    def info(self) -> dict[str, Any]:
+        """JSON-serialisable extras stored in the trial's ``info`` (e.g. the start height)."""
+
+
+class TaskBase:
+    """Defaults for the optional parts of :class:`Task`; a system's task subclasses it."""
+
+    #: ``(model, data) -> None`` before every physics step, or None for the C fast path
+    before_substep: Callable[[Any, Any], None] | None = None
+    #: ``MjModel`` arrays that :meth:`apply` changes at run time (``terrabench perf`` replays them)
+    mutable_model_fields: tuple[str, ...] = ()
+
+    def info(self) -> dict[str, Any]:
+        return {}
+
+
+class Controller(Protocol):
+    """``obs -> cmd``: sees only the task's observation."""
+
+    def __call__(self, obs: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """A method a user can name: its id, one line for ``terrabench list`` and tags."""
+
+    id: str
+    summary: str
+    tags: tuple[str, ...] = ()
+
+
+def split_ids(value: Sequence[str] | None, what: str, valid: Sequence[str]) -> list[str] | None:
+    """Validate a user's list of ids (None = not given). An empty list is an error."""
+    if value is None:
+        return None
+    items = [v for v in value if v]
+    if not items:
+        raise ValueError(f"{what}: an empty list was given; valid: {', '.join(valid)}")
+    bad = [v for v in items if v not in valid]
+    if bad:
+        raise ValueError(f"unknown {what} {', '.join(map(repr, bad))}; valid: {', '.join(valid)}")
+    return items
+
+
+class System:
+    """Base of every system definition. Subclasses set the class attributes and hooks.
+
+    Class attributes:
+        id: the system id (``terrabench run ID``).
+        summary: one line for ``terrabench list``.
+        config_cls: root frozen dataclass of a trial's config (nested sections).
+        groups: group id -> one-line description (``--group``); ``all`` is implied.
+        default_group: the group planned when neither ``--group`` nor instances are given.
+        timeout_key: dotted config key that ``--timeout`` sets (None: the system has none).
+        threshold_key: dotted config key that ``--threshold`` sets (None: none).
+        headline_metrics: metric names shown per trial by the CLI.
+        env_ids: Gymnasium ids registered for this system (``terrabench list`` shows them).
+        perf_instances: instances ``terrabench perf`` times by default.
+    """
+
+    id: ClassVar[str] = ""
+    summary: ClassVar[str] = ""
+    config_cls: ClassVar[type] = object
+    groups: ClassVar[Mapping[str, str]] = {}
+    default_group: ClassVar[str | None] = None
+    timeout_key: ClassVar[str | None] = None
+    threshold_key: ClassVar[str | None] = None
+    headline_metrics: ClassVar[tuple[str, ...]] = ()
+    env_ids: ClassVar[tuple[str, ...]] = ()
+    perf_instances: ClassVar[tuple[str, ...]] = ()
+
+    # ------------------------------------------------------------------ scenarios (override)
+    def methods(self) -> dict[str, MethodInfo]:
+        """Every method id -> :class:`MethodInfo` (plug-ins may add to it at import time)."""
+        raise NotImplementedError
+
+    def default_methods(self) -> list[str]:
+        return list(self.methods())
+
+    def instances(self, group: str | None) -> list[str]:
+        """Instance ids of ``group`` (None or ``"all"``: every instance), in run order."""
+        raise NotImplementedError
+
+    def methods_for(self, group: str | None) -> list[str] | None:
+        """Methods that apply to ``group`` (None: all methods apply to all groups)."""
+        return None
+
+    def scenario(self, method: str, instance: str) -> str:
+        """The versioned scenario id a trial belongs to."""
+        raise NotImplementedError
+
+    def trial_config(self, method: str, instance: str, cfg: Any) -> dict[str, Any]:
+        """The config stored with (and hashed into) a trial: by default the whole resolved one."""
+        return to_dict(cfg)
+
+    def seeds_for(self, method: str, instance: str, config: dict[str, Any], seeds: int) -> range:
+        """The seeds a trial is run with (deterministic trials may need only seed 0)."""
+        return range(seeds)
+
+    def base_config(self) -> Any:
+        return self.config_cls()
+
+    # ------------------------------------------------------------------ planning (generic)
+    def resolve_config(self, overrides: Mapping[str, Any] | None = None) -> Any:
+        """The default config with ``--set`` overrides applied and validated."""
+        return override(self.base_config(), dict(overrides or {}))
+
+    def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
+             group: str | None = None, seeds: int = 1, overrides: Mapping[str, Any] | None = None) -> list[TrialSpec]:
+        """Trial specs for (methods x instances x seeds); ValueError on any bad input.
+
+        ``methods=["all"]`` means every method; ``instances`` and ``group`` are exclusive.
+        """
+        if not isinstance(seeds, int) or seeds < 1:
+            raise ValueError(f"seeds must be an integer >= 1, got {seeds!r}")
+        known = self.methods()
+        if methods is not None and list(methods) == ["all"]:
+            mids = list(known)
+        else:
+            mids = split_ids(methods, f"{self.id} method(s)", list(known)) or self.default_methods()
+        if group is not None:
+            valid_groups = list(self.groups) + ["all"]
+            if group not in valid_groups:
+                raise ValueError(f"unknown {self.id} group {group!r}; valid: {', '.join(valid_groups)}")
+            if instances is not None:
+                raise ValueError("give either instances (--terrains) or --group, not both")
+        if instances is not None:
+            chosen = self.select_instances(instances)
+        else:
+            chosen = self.instances(group if group is not None else self.default_group)
+        applicable = self.methods_for(group)
+        if applicable is not None and methods is not None and list(methods) != ["all"]:
+            wrong = [m for m in mids if m not in applicable]
+            if wrong:
+                raise ValueError(f"method(s) {', '.join(wrong)} do not run in group {group!r}; "
+                                 f"valid there: {', '.join(applicable)}")
+        cfg = self.resolve_config(overrides)
+        out: list[TrialSpec] = []
+        planned: list[tuple[str, str, dict[str, Any], range]] = []
+        for inst in chosen:
+            for mid in mids:
+                if not self.applies(mid, inst):
+                    continue
+                c = self.trial_config(mid, inst, cfg)
+                planned.append((mid, inst, c, self.seeds_for(mid, inst, c, seeds)))
+        if not planned:
+            raise ValueError(f"no {self.id} trial matches methods {mids} on instances {list(chosen)[:6]}...")
+        for seed in range(seeds):
+            for mid, inst, c, ss in planned:
+                if seed in ss:
+                    out.append(TrialSpec(self.id, self.scenario(mid, inst), mid, inst, seed, c))
+        return out
+
+    def select_instances(self, ids: Sequence[str]) -> list[str]:
+        """Validate user-given instance ids (default: members of ``instances(None)``)."""
+        return split_ids(ids, f"{self.id} instance(s)", self.instances(None)) or []
+
+    def applies(self, method: str, instance: str) -> bool:
+        """Whether ``method`` runs on ``instance`` (all pairs by default)."""
+        return True
+
+    # ------------------------------------------------------------------ running (generic)
+    def load_config(self, config: Mapping[str, Any]) -> Any:
+        """Rebuild the config object a spec carries (missing sections take their defaults)."""
+        return from_dict(self.config_cls, config)
+
+    def make_task(self, spec: TrialSpec, cfg: Any) -> Task:
+        """The task of one trial (MuJoCo systems override this)."""
+        raise NotImplementedError(f"system {self.id!r} does not run through the episode loop")
+
+    def make_controller(self, spec: TrialSpec, cfg: Any, task: Task) -> Callable[[Any], Any]:
+        raise NotImplementedError
+
+    def run_trial(self, spec: TrialSpec, *, on_step: Callable | None = None) -> TrialResult:
+        """Run one spec through the shared episode loop; physics trouble is a status, not a raise."""
+        t0 = time.perf_counter()
+        cfg = self.load_config(spec.config)
+        task = self.make_task(spec, cfg)
+        result = run_task(task, self.make_controller(spec, cfg, task), on_step=on_step)
+        result.wall_time = time.perf_counter() - t0
+        return result
+
+    # ------------------------------------------------------------------ results (override)
     def summarize(self, rows: list[dict[str, Any]]) -> Any:
-        """A rich renderable (table) of stored rows, beside the paper's numbers."""
+        """A rich renderable of stored rows beside the paper's numbers."""
+        from rich.table import Table
+
+        t = Table(title=f"{self.id}: statuses")
+        for c in ("method", "n", "statuses"):
+            t.add_column(c)
+        by: dict[str, dict[str, int]] = {}
+        for r in rows:
+            d = by.setdefault(r["method"], {})
+            d[r["status"]] = d.get(r["status"], 0) + 1
+        for m, d in by.items():
+            t.add_row(m, str(sum(d.values())), ", ".join(f"{k} {v}" for k, v in sorted(d.items())))
+        return t
 
     def report(self, store: Any, out_dir: Path) -> Path:
-        """Write the system's report (HTML + PNG/CSV); return the HTML path."""
+        raise NotImplementedError(f"system {self.id!r} has no report yet")
+
+    # ------------------------------------------------------------------ registry
+    def register(self, registry: Any, target: str, scenario_summaries: Mapping[str, str] | None = None) -> None:
+        """Add this system, its scenarios and its methods to ``registry``."""
+        from terrabench.registry import Record
+
+        registry.register(Record("system", self.id, self.summary, target, self.id))
+        for sid, text in (scenario_summaries or {}).items():
+            registry.register(Record("scenario", sid, text, target, self.id))
+        for m in self.methods().values():
+            registry.register(Record("method", m.id, m.summary, target, self.id, m.tags))
+
+
+def run_task(task: Task, controller: Callable[[Any], Any], *, on_step: Callable | None = None) -> TrialResult:
+    """One episode of ``task`` driven by ``controller``, as a trial result.
+
+    Metrics are the task's plus ``sim_time``; the series is the log thinned to
+    ``task.timing.log_period``; ``info`` holds the stop reason, the task's ``info()`` extras
+    (if it has that method) and the timing figures.
+    """
+    from terrabench.sim.episode import run_episode
+
+    t0 = time.perf_counter()
+    log = run_episode(task, controller, on_step=on_step)
+    metrics = task.metrics(log)
+    metrics["sim_time"] = log.sim_time
+    info = {"reason": log.reason, **task.info(), "control_steps": log.steps,
+            "physics_steps": int(log.timing["physics_steps"]), "wall_time": log.timing["wall"],
+            "loop_time": log.timing["loop"], "engine_time": log.timing["engine"]}
+    return TrialResult(log.status, metrics, log.thinned(task.timing.log_period), time.perf_counter() - t0, info)
+
+
+def check_finite_positive(name: str, value: Any, unit: str) -> None:
+    """ValueError naming ``name`` unless ``value`` is a positive finite number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive finite number ({unit}), got {value!r}")
+
+
+def field_names(cls: type) -> list[str]:
+    return [f.name for f in dataclasses.fields(cls)]

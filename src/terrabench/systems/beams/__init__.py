@@ -12,17 +12,24 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
+from terrabench.systems.base import MethodInfo, System
 
 from . import scenarios as _sc
 
 __all__ = ["SYSTEM", "BeamsSystem", "register"]
 
 
-class BeamsSystem:
-    """The beams system (implements ``terrabench.systems.base.System``)."""
+class BeamsSystem(System):
+    """The beams system on the hallway contract (its trials run the paper's own integrator)."""
 
-    name = _sc.SYSTEM_ID
-    groups = _sc.GROUPS
+    id = _sc.SYSTEM_ID
+    summary = "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through"
+    config_cls = _sc.TrialConfig
+    groups = {g: g for g in _sc.GROUPS}
+    headline_metrics = ()
+
+    def methods(self) -> dict[str, MethodInfo]:
+        return {m: MethodInfo(m, text, ("beams",) + _sc.METHOD_GROUP[m]) for m, text in _sc.METHODS.items()}
 
     def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
              group: str | None = None, seeds: int = 1, overrides: dict[str, Any] | None = None) -> list[TrialSpec]:
@@ -31,7 +38,7 @@ class BeamsSystem:
         return _sc.plan_specs(methods=methods, instances=instances, group=group, seeds=seeds,
                               overrides=overrides or {})
 
-    def run_trial(self, spec: TrialSpec) -> TrialResult:
+    def run_trial(self, spec: TrialSpec, *, on_step=None) -> TrialResult:
         """Run one trial (deterministic in spec.config and spec.seed)."""
         return _sc.run_trial(spec)
 

@@ -30,6 +30,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
+from terrabench.config import override
 
 from .control import ControlConfig, TrackingController, energy_cost, hold_constant
 from .estimation import (EstimatorConfig, SensingConfig, estimate, estimate_preload, relative_errors, sense,
@@ -414,7 +415,7 @@ def plan_specs(*, methods: Sequence[str] | None = None, instances: Sequence[str]
     overrides = dict(overrides or {})
     overrides = {k.split(".", 1)[1] if k.startswith("beams.") else k: v for k, v in overrides.items()}
     if overrides:
-        TrialConfig.from_dict({**TrialConfig().to_dict(), **overrides})  # validate keys early
+        override(TrialConfig(), overrides)  # validate keys and values early
     groups = GROUPS if group in (None, "all") else (group,)
     for g in groups:
         if g not in SCENARIOS:
@@ -440,7 +441,7 @@ def plan_specs(*, methods: Sequence[str] | None = None, instances: Sequence[str]
                     continue
                 cfg = _instance_config(g, m, inst)
                 if overrides:
-                    cfg = TrialConfig.from_dict({**cfg.to_dict(), **overrides})
+                    cfg = override(cfg, overrides)
                 # noise-free or deterministic trials need one seed only
                 deterministic = g in ("open-loop", "contact-check") or m == "avoid" or \
                     (g == "experiment" and cfg.sigma == 0)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
+from terrabench.systems.base import check_finite_positive
 from terrabench.systems.mrs_cwc.control import (
     DriveConfig,
     FollowConfig,
@@ -50,12 +52,9 @@ class ProtocolConfig:
     start_jitter: float = 0.05
 
     def __post_init__(self) -> None:
-        if not self.timeout > 0:
-            raise ValueError(f"timeout must be positive seconds, got {self.timeout!r}")
-        if not self.success_threshold > 0:
-            raise ValueError(f"success threshold must be positive metres, got {self.success_threshold!r}")
-        if not self.control_period > 0:
-            raise ValueError(f"control period must be positive, got {self.control_period!r}")
+        check_finite_positive("timeout", self.timeout, "simulated seconds")
+        check_finite_positive("success threshold", self.success_threshold, "m")
+        check_finite_positive("control period", self.control_period, "s")
 
 
 @dataclass(frozen=True)
@@ -89,9 +88,5 @@ class MRSConfig:
     def __post_init__(self) -> None:
         if self.waypoint_source not in WAYPOINT_SOURCES:
             raise ValueError(f"unknown waypoint source {self.waypoint_source!r}; valid: {', '.join(WAYPOINT_SOURCES)}")
-        ratio = self.protocol.control_period / self.physics.timestep
-        if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
-            raise ValueError(
-                f"control period {self.protocol.control_period} s must be a whole number of physics steps "
-                f"({self.physics.timestep} s)"
-            )
+        pr = self.protocol
+        Timing(pr.control_period, pr.timeout, pr.divergence_check_period, pr.log_period).substeps(self.physics.timestep)

@@ -55,7 +55,9 @@ class StiffnessLawConfig:
         memory_rate: weight of a new sign in the memory (0.1).
         ema: weight of K* in the first-order smoothing (0.03).
         window: length of the moving average after it (5 values).
-        control_period: (s).
+
+    The control period the law differentiates the yaw rate over is the protocol's
+    (``protocol.control_period``), passed to :class:`StiffnessLaw`: one value in one place.
     """
 
     mode: str = "released"
@@ -70,7 +72,6 @@ class StiffnessLawConfig:
     memory_rate: float = 0.1
     ema: float = 0.03
     window: int = 5
-    control_period: float = 0.025
 
     def __post_init__(self) -> None:
         if self.mode not in STIFFNESS_MODES:
@@ -86,8 +87,9 @@ class StiffnessLaw:
     yaw rate (rad/s), wheel torques ``tau_l, tau_r`` (N m) and link-1 relative yaw ``q1`` (rad).
     """
 
-    def __init__(self, cfg: StiffnessLawConfig):
+    def __init__(self, cfg: StiffnessLawConfig, control_period: float):
         self.cfg = cfg
+        self.period = control_period
         self.k = cfg.k_init
         self.memory = -1.0
         self.soft = False
@@ -97,7 +99,7 @@ class StiffnessLaw:
 
     def update(self, e: float, yaw_rate: float, tau_l: float, tau_r: float, q1: float) -> float:
         c = self.cfg
-        alpha = 0.0 if self._prev_rate is None else (yaw_rate - self._prev_rate) / c.control_period
+        alpha = 0.0 if self._prev_rate is None else (yaw_rate - self._prev_rate) / self.period
         self._prev_rate = yaw_rate
         tau_m = c.motor_gain * (tau_r - tau_l)
         tau_spring = -self.k * q1
@@ -185,14 +187,16 @@ class Command:
         wheel_speed: (n, 2) [left, right] targets for the velocity servos (rad/s).
         yaw_stiffness: common yaw-spring stiffness (N m/rad), or None to leave it.
         yaw_target: (n-1,) yaw-servo targets (rad), or None.
+        tau_env: the body law's last |tau_env| estimate (N m), NaN where it has none; logged.
     """
 
-    __slots__ = ("wheel_speed", "yaw_stiffness", "yaw_target")
+    __slots__ = ("wheel_speed", "yaw_stiffness", "yaw_target", "tau_env")
 
     def __init__(self, n: int):
         self.wheel_speed = np.zeros((n, 2))
         self.yaw_stiffness: float | None = None
         self.yaw_target: np.ndarray | None = None
+        self.tau_env = float("nan")
 
 
 class BodyLaw(Protocol):
@@ -211,8 +215,8 @@ def _differential(cmd: Command, errors: np.ndarray, drive: DriveConfig) -> None:
 class CWCLaw:
     """CWC and CS: followers copy the predecessor's heading; yaw stiffness from the law."""
 
-    def __init__(self, n: int, drive: DriveConfig, law: StiffnessLawConfig):
-        self.drive, self.law = drive, StiffnessLaw(law)
+    def __init__(self, n: int, drive: DriveConfig, law: StiffnessLawConfig, control_period: float):
+        self.drive, self.law = drive, StiffnessLaw(law, control_period)
         self._errors = np.zeros(n)
 
     @property

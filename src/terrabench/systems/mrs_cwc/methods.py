@@ -78,8 +78,8 @@ def config_for(method: Method, cfg: dict[str, Any]) -> dict[str, Any]:
 
 #: body id -> factory (n_units, MRSConfig) -> body law
 BODY_LAWS: dict[str, Callable[[int, Any], Any]] = {
-    "cwc": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, cfg.stiffness),
-    "cs": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, replace(cfg.stiffness, mode="constant")),
+    "cwc": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, cfg.stiffness, cfg.protocol.control_period),
+    "cs": lambda n, cfg: ctl.CWCLaw(n, cfg.drive, replace(cfg.stiffness, mode="constant"), cfg.protocol.control_period),
     "mj": lambda n, cfg: ctl.HeadFollowing(n, cfg.drive, cfg.head_following),
     "d": lambda n, cfg: ctl.FollowByPosition(n, cfg.drive, cfg.follow),
 }

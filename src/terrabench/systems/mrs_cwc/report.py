@@ -47,7 +47,7 @@ from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
 from terrabench.systems.mrs_cwc.methods import METHODS, config_for  # noqa: E402
 from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
 from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, TRIALS_PER_GROUP, paper_row  # noqa: E402
-from terrabench.systems.mrs_cwc.scenarios import summaries  # noqa: E402
+from terrabench.systems.mrs_cwc.summary import summaries  # noqa: E402
 from terrabench.terrain import dataset  # noqa: E402
 
 #: The paper's table and figure for each terrain group.

@@ -1,0 +1,105 @@
+"""Speed of a system's episode loop against the raw MuJoCo engine on the same trajectory.
+
+For each instance, three passes from the same start, through the system contract:
+
+1. *loop*: a real episode (controller, sensing, logging, metrics), timed as a whole;
+2. a recording pass (not timed) that keeps, every control period, ``data.ctrl`` and the model
+   arrays the task changes at run time (``task.mutable_model_fields``, e.g. yaw stiffness);
+3. *raw*: a fresh copy of the scene replaying exactly those commands with ``mj_step`` alone
+   (and the task's per-substep hook, which is physics, when it has one): the engine's cost of
+   the very motion the loop produced.
+
+Reported: physics steps/s, real-time factor (simulated s per wall s), loop/raw (1.0 = Python
+adds nothing) and the share of the loop spent inside ``mj_step``.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any, Sequence
+
+import mujoco
+import numpy as np
+
+from terrabench.sim.episode import Episode, run_episode
+from terrabench.sim.scene import compile_scene
+
+
+def measure(system: Any, method: str | None, instances: Sequence[str] | None, seconds: float) -> list[dict]:
+    """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds)."""
+    if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
+        raise ValueError(f"--seconds must be a positive finite number, got {seconds!r}")
+    if system.timeout_key is None:
+        raise ValueError(f"system {system.id!r} has no simulated time limit to measure against")
+    chosen = list(instances) if instances else list(system.perf_instances)
+    specs = system.plan(methods=[method] if method else None, instances=chosen, seeds=1,
+                        overrides={system.timeout_key: seconds})
+    rows = []
+    for spec in specs:
+        cfg = system.load_config(spec.config)
+        task = system.make_task(spec, cfg)
+        log = run_episode(task, system.make_controller(spec, cfg, task))
+        loop_time = log.timing["loop"]
+        steps = log.timing["physics_steps"]
+        commands = _record(system, spec, cfg)
+        raw_time = _replay(system.make_task(spec, cfg), commands)
+        rows.append({
+            "instance": spec.instance, "method": spec.method, "status": log.status,
+            "raw_steps_per_s": steps / raw_time, "raw_rtf": log.sim_time / raw_time,
+            "loop_steps_per_s": steps / loop_time, "loop_rtf": log.sim_time / loop_time,
+            "loop_over_raw": raw_time / loop_time, "engine_share": log.timing["engine"] / loop_time,
+        })
+    return rows
+
+
+def _record(system: Any, spec, cfg) -> list[tuple[np.ndarray, list[np.ndarray]]]:
+    task = system.make_task(spec, cfg)
+    out: list[tuple[np.ndarray, list[np.ndarray]]] = []
+
+    def keep(task, obs, cmd) -> None:
+        out.append((task_data.ctrl.copy(), [getattr(task_model, f).copy() for f in task.mutable_model_fields]))
+
+    ep = Episode(task, on_step=keep)
+    task_model, task_data = ep.model, ep.data
+    controller = system.make_controller(spec, cfg, task)
+    obs, stop = ep.begin()
+    while stop is None:
+        obs, stop = ep.step(controller(obs))
+    return out
+
+
+def _replay(task: Any, commands: list[tuple[np.ndarray, list[np.ndarray]]]) -> float:
+    m, d = compile_scene(task)
+    task.bind(m, d)
+    nsub = task.timing.substeps(task.physics.timestep)
+    fields = [getattr(m, f) for f in task.mutable_model_fields]
+    hook = task.before_substep
+    t0 = time.perf_counter()
+    for ctrl, values in commands:
+        d.ctrl[:] = ctrl
+        for arr, v in zip(fields, values):
+            arr[:] = v
+        if hook is None:
+            mujoco.mj_step(m, d, nsub)
+        else:
+            for _ in range(nsub):
+                hook(m, d)
+                mujoco.mj_step(m, d)
+    return time.perf_counter() - t0
+
+
+def perf_table(system_id: str, rows: list[dict]):
+    from rich.table import Table
+
+    t = Table(title=f"{system_id} speed: the episode loop vs raw mj_step replaying the same commands")
+    for c in ("instance", "raw steps/s", "raw RTF", "loop steps/s", "loop RTF", "loop/raw", "mj_step share of loop"):
+        t.add_column(c, justify="right")
+    for r in rows:
+        t.add_row(r["instance"], f"{r['raw_steps_per_s']:.0f}", f"{r['raw_rtf']:.0f}", f"{r['loop_steps_per_s']:.0f}",
+                  f"{r['loop_rtf']:.0f}", f"{r['loop_over_raw']:.2f}", f"{100 * r['engine_share']:.0f} %")
+    mean = lambda k: float(np.mean([r[k] for r in rows]))  # noqa: E731
+    total_raw = sum(1 / r["raw_steps_per_s"] for r in rows)
+    total_loop = sum(1 / r["loop_steps_per_s"] for r in rows)
+    t.add_row("mean", f"{mean('raw_steps_per_s'):.0f}", f"{mean('raw_rtf'):.0f}", f"{mean('loop_steps_per_s'):.0f}",
+              f"{mean('loop_rtf'):.0f}", f"{total_raw / total_loop:.2f}", f"{100 * mean('engine_share'):.0f} %")
+    return t

@@ -255,6 +255,11 @@ class System:
         result.wall_time = time.perf_counter() - t0
         return result
 
+    def env_adapter(self) -> Any:
+        """The Gymnasium glue of this system (spaces, observation/action mapping, reward terms);
+        see :mod:`terrabench.envs`. Systems without an env leave this unimplemented."""
+        raise NotImplementedError(f"system {self.id!r} has no Gymnasium environment")
+
     # ------------------------------------------------------------------ results (override)
     def summarize(self, rows: list[dict[str, Any]]) -> Any:
         """A rich renderable of stored rows beside the paper's numbers."""

@@ -18,7 +18,8 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from terrabench.systems.mrs_cwc import trial
+from terrabench.systems.base import run_task
+from terrabench.systems.mrs_cwc.task import MRSTask, make_controller
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import get_method
 from terrabench.terrain import dataset
@@ -28,17 +29,22 @@ def record(terrain_id: str, cfg: MRSConfig, method_id: str = "cwc-tdt") -> dict[
     """Run one trial and return the law's inputs and terms at every control period."""
     rows: list[tuple[float, ...]] = []
     state = {"k": None, "rate": None}
+    method, terrain = get_method(method_id), dataset.get(terrain_id)
+    controller = make_controller(method, cfg, terrain)
+    period = cfg.protocol.control_period
 
-    def sample(scene, obs, cmd, body) -> None:
-        law, c = body.law, body.law.cfg
+    def sample(task, obs, cmd) -> None:
+        law = controller.body.law
+        c = law.cfg
         rate, (tau_l, tau_r) = float(obs.yaw_rate[0]), obs.wheel_torque[0]
-        alpha = 0.0 if state["rate"] is None else (rate - state["rate"]) / c.control_period
+        alpha = 0.0 if state["rate"] is None else (rate - state["rate"]) / period
         k_prev = c.k_init if state["k"] is None else state["k"]  # the K the law just used
         rows.append((c.inertia * alpha, c.motor_gain * (tau_r - tau_l), k_prev * float(obs.joint_yaw[0]),
                      law.tau_env, law.k, float(law.soft), law.memory))
         state["k"], state["rate"] = law.k, rate
 
-    status, metrics, _, _ = trial.run(get_method(method_id), dataset.get(terrain_id), cfg, on_step=sample)
+    result = run_task(MRSTask(method, terrain, cfg), controller, on_step=sample)
+    status, metrics = result.status, result.metrics
     a = np.array(rows)
     names = ("I_alpha", "tau_m", "K_q", "tau_env", "K", "soft", "memory")
     out = {n: a[:, i] for i, n in enumerate(names)}

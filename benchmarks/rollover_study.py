@@ -19,7 +19,7 @@ import numpy as np
 from rich.console import Console
 
 from terrabench.config import override, parse_overrides
-from terrabench.systems.mrs_cwc import trial
+from terrabench.systems.mrs_cwc import task as trial
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import get_method
 from terrabench.terrain import dataset
@@ -34,7 +34,7 @@ def first_rollover(terrain_id: str, method_id: str, cfg: MRSConfig, horizon: flo
     q_hist: list[np.ndarray] = []
     found: dict = {"t": float("nan")}
 
-    def sample(scene, obs, cmd, body) -> None:
+    def sample(scene, obs, cmd) -> None:
         k_hist.append(cmd.yaw_stiffness if cmd.yaw_stiffness is not None else float("nan"))
         q_hist.append(obs.joint_yaw.copy())
         up = float(np.mean(scene.data.xmat[scene.unit_bodies, 8]))

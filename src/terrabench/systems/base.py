@@ -131,6 +131,8 @@ class System:
         headline_metrics: metric names shown per trial by the CLI.
         env_ids: Gymnasium ids registered for this system (``terrabench list`` shows them).
         perf_instances: instances ``terrabench perf`` times by default.
+        smoke: keyword arguments of :meth:`plan` for a request that runs in seconds (the
+            contract test in ``tests/test_contract.py`` runs it for every registered system).
     """
 
     id: ClassVar[str] = ""
@@ -143,6 +145,7 @@ class System:
     headline_metrics: ClassVar[tuple[str, ...]] = ()
     env_ids: ClassVar[tuple[str, ...]] = ()
     perf_instances: ClassVar[tuple[str, ...]] = ()
+    smoke: ClassVar[Mapping[str, Any]] = {}
 
     # ------------------------------------------------------------------ scenarios (override)
     def methods(self) -> dict[str, MethodInfo]:

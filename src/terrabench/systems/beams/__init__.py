@@ -27,6 +27,7 @@ class BeamsSystem(System):
     config_cls = _sc.TrialConfig
     groups = {g: g for g in _sc.GROUPS}
     headline_metrics = ()
+    smoke = {"methods": ["open-loop"], "instances": ["flimsy-f0.1"]}
 
     def methods(self) -> dict[str, MethodInfo]:
         return {m: MethodInfo(m, text, ("beams",) + _sc.METHOD_GROUP[m]) for m, text in _sc.METHODS.items()}

@@ -33,6 +33,7 @@ class MRSCWCSystem(System):
     headline_metrics = ("d_min", "NCR", "NEF", "NEC", "sim_time")
     env_ids = ("terrabench/MRSCWC-v1",)
     perf_instances = ("B-05", "B-15", "B-25", "B-35", "B-45")
+    smoke = {"methods": ["cwc-tdt"], "instances": ["A-01"], "overrides": {"protocol.timeout": 1.0}}
 
     def methods(self) -> dict[str, MethodInfo]:
         return {m.id: MethodInfo(m.id, f"{m.label}: {m.summary}",

@@ -104,19 +104,6 @@ class MethodInfo:
     tags: tuple[str, ...] = ()
 
 
-def split_ids(value: Sequence[str] | None, what: str, valid: Sequence[str]) -> list[str] | None:
-    """Validate a user's list of ids (None = not given). An empty list is an error."""
-    if value is None:
-        return None
-    items = [v for v in value if v]
-    if not items:
-        raise ValueError(f"{what}: an empty list was given; valid: {', '.join(valid)}")
-    bad = [v for v in items if v not in valid]
-    if bad:
-        raise ValueError(f"unknown {what} {', '.join(map(repr, bad))}; valid: {', '.join(valid)}")
-    return items
-
-
 class System:
     """Base of every system definition. Subclasses set the class attributes and hooks.
 
@@ -187,50 +174,17 @@ class System:
              group: str | None = None, seeds: int = 1, overrides: Mapping[str, Any] | None = None) -> list[TrialSpec]:
         """Trial specs for (methods x instances x seeds); ValueError on any bad input.
 
-        ``methods=["all"]`` means every method; ``instances`` and ``group`` are exclusive.
+        ``methods=["all"]`` means every method; ``instances`` and ``group`` are exclusive. The
+        generic planner is :func:`terrabench.benchmark.plan.plan_specs`.
         """
-        if not isinstance(seeds, int) or seeds < 1:
-            raise ValueError(f"seeds must be an integer >= 1, got {seeds!r}")
-        known = self.methods()
-        if methods is not None and list(methods) == ["all"]:
-            mids = list(known)
-        else:
-            mids = split_ids(methods, f"{self.id} method(s)", list(known)) or self.default_methods()
-        if group is not None:
-            valid_groups = list(self.groups) + ["all"]
-            if group not in valid_groups:
-                raise ValueError(f"unknown {self.id} group {group!r}; valid: {', '.join(valid_groups)}")
-            if instances is not None:
-                raise ValueError("give either instances (--terrains) or --group, not both")
-        if instances is not None:
-            chosen = self.select_instances(instances)
-        else:
-            chosen = self.instances(group if group is not None else self.default_group)
-        applicable = self.methods_for(group)
-        if applicable is not None and methods is not None and list(methods) != ["all"]:
-            wrong = [m for m in mids if m not in applicable]
-            if wrong:
-                raise ValueError(f"method(s) {', '.join(wrong)} do not run in group {group!r}; "
-                                 f"valid there: {', '.join(applicable)}")
-        cfg = self.resolve_config(overrides)
-        out: list[TrialSpec] = []
-        planned: list[tuple[str, str, dict[str, Any], range]] = []
-        for inst in chosen:
-            for mid in mids:
-                if not self.applies(mid, inst):
-                    continue
-                c = self.trial_config(mid, inst, cfg)
-                planned.append((mid, inst, c, self.seeds_for(mid, inst, c, seeds)))
-        if not planned:
-            raise ValueError(f"no {self.id} trial matches methods {mids} on instances {list(chosen)[:6]}...")
-        for seed in range(seeds):
-            for mid, inst, c, ss in planned:
-                if seed in ss:
-                    out.append(TrialSpec(self.id, self.scenario(mid, inst), mid, inst, seed, c))
-        return out
+        from terrabench.benchmark.plan import plan_specs
+
+        return plan_specs(self, methods=methods, instances=instances, group=group, seeds=seeds, overrides=overrides)
 
     def select_instances(self, ids: Sequence[str]) -> list[str]:
         """Validate user-given instance ids (default: members of ``instances(None)``)."""
+        from terrabench.benchmark.plan import split_ids
+
         return split_ids(ids, f"{self.id} instance(s)", self.instances(None)) or []
 
     def applies(self, method: str, instance: str) -> bool:

@@ -7,7 +7,7 @@ The small public API::
 
 from __future__ import annotations
 
-__version__ = "0.2.0"
+from terrabench._version import __version__  # noqa: E402
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec  # noqa: E402
 from terrabench.registry import REGISTRY  # noqa: E402

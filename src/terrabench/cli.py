@@ -49,7 +49,7 @@ def _split(value: Optional[str], flag: str = "") -> Optional[list[str]]:
 
 def _version(value: bool) -> None:
     if value:
-        from terrabench import __version__
+        from terrabench._version import __version__
 
         console.print(f"terrabench {__version__}")
         raise typer.Exit()

@@ -62,7 +62,7 @@ class ResultsStore:
     """A DuckDB results file. Use as a context manager or call :meth:`close`."""
 
     def __init__(self, path: str | Path, *, read_only: bool = False):
-        from terrabench import __version__
+        from terrabench._version import __version__
 
         self.path = Path(path)
         if read_only and not self.path.exists():
@@ -99,7 +99,7 @@ class ResultsStore:
     # ---------------------------------------------------------------- writing
     def write(self, spec: TrialSpec, result: TrialResult) -> None:
         """Store one finished trial atomically (replacing an earlier row with the same key)."""
-        from terrabench import __version__
+        from terrabench._version import __version__
 
         key = spec.key
         con = self.con

@@ -23,14 +23,16 @@ import numpy as np
 
 from terrabench.sim.episode import Episode, run_episode
 from terrabench.sim.scene import compile_scene
+from terrabench.systems.base import System
 
 
 def measure(system: Any, method: str | None, instances: Sequence[str] | None, seconds: float) -> list[dict]:
     """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds)."""
     if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
         raise ValueError(f"--seconds must be a positive finite number, got {seconds!r}")
-    if system.timeout_key is None:
-        raise ValueError(f"system {system.id!r} has no simulated time limit to measure against")
+    if system.timeout_key is None or type(system).make_task is System.make_task:
+        raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop; "
+                         f"perf times systems that do (see `terrabench list`)")
     chosen = list(instances) if instances else list(system.perf_instances)
     specs = system.plan(methods=[method] if method else None, instances=chosen, seeds=1,
                         overrides={system.timeout_key: seconds})

@@ -653,7 +653,7 @@ def _cell(v: Any) -> str:
 
 def _provenance_html(store, rows, rows0, variants: list[Variant]) -> str:
     """Store, trial counts, total times and every config used (diff from defaults + full JSON)."""
-    from terrabench import __version__
+    from terrabench._version import __version__
 
     defaults = _flatten(to_dict(MRSConfig()))
     configs: dict[str, dict[str, Any]] = {}

@@ -195,38 +195,50 @@ class SoilWheels:
         self._calls += 1
 
     def _compute(self, data: mujoco.MjData) -> np.ndarray:
+        # np.cross costs ~15 us per call on small arrays: cross products are written out.
         r = self.wheel.radius
         b = self.bodies
         p = data.xpos[b]
-        a = data.xmat[b].reshape(-1, 3, 3)[:, :, 1]
+        a = data.xmat[b][:, 1::3]  # body y axis (axle) in world: column 1 of each xmat
         cvel = data.cvel[b]
-        ang, lin = cvel[:, :3], cvel[:, 3:]
-        v = lin + np.cross(ang, p - data.subtree_com[self.roots])
+        w, lin = cvel[:, :3], cvel[:, 3:]
+        rel = p - data.subtree_com[self.roots]
+        v = lin + _cross(w, rel)
         zg, nrm = self.ground(p[:, 0], p[:, 1])
-        f = np.cross(a, nrm)
-        f /= np.linalg.norm(f, axis=1, keepdims=True)
-        lat = np.cross(nrm, f)
+        f = _cross(a, nrm)
+        f /= np.sqrt((f * f).sum(1))[:, None]
+        lat = _cross(nrm, f)
         sink = r - (p[:, 2] - zg) * nrm[:, 2]
-        vx = np.einsum("ij,ij->i", v, f)
-        vy = np.einsum("ij,ij->i", v, lat)
-        vn = np.einsum("ij,ij->i", v, nrm)
-        rw = r * np.einsum("ij,ij->i", ang, a)
+        vx = (v * f).sum(1)
+        vy = (v * lat).sum(1)
+        vn = (v * nrm).sum(1)
+        rw = r * (w * a).sum(1)
         d = np.where(rw + vx >= 0, 1.0, -1.0)
         big = np.maximum(np.abs(rw), np.abs(vx))
         s = np.clip(d * (rw - vx) / np.maximum(big, self.v_eps), SLIP_MIN, SLIP_MAX)
         q = np.abs(vy) / np.maximum(np.abs(rw), self.v_eps)
         W, DP, T, Fy = self.table.lookup(sink, s, q)
-        fade = np.minimum(big / self.v_eps, 1.0)
-        on = sink > 0
-        Fn = np.where(on, np.maximum(W - self.damping * vn, 0.0), 0.0)
-        F_axle = Fn[:, None] * nrm + (d * DP * fade)[:, None] * f
-        F_lat = (-np.sign(vy) * Fy)[:, None] * lat
-        torque = (-d * T * fade)[:, None] * a
-        com = data.xipos[b]
+        fade = np.minimum(big * (1.0 / self.v_eps), 1.0)
+        Fn = np.maximum(W - self.damping * vn, 0.0) * (sink > 0)
+        dpf = d * DP * fade
+        tf = d * T * fade
+        fy = -np.sign(vy) * Fy
+        F_axle = Fn[:, None] * nrm + dpf[:, None] * f
+        F_lat = fy[:, None] * lat
+        arm = p - data.xipos[b]
         wrench = np.empty((self.n, 6))
         wrench[:, :3] = F_axle + F_lat
-        wrench[:, 3:] = torque + np.cross(p - com, F_axle) + np.cross(p - r * nrm - com, F_lat)
+        wrench[:, 3:] = -tf[:, None] * a + _cross(arm, F_axle) + _cross(arm - r * nrm, F_lat)
         t = self.truth
         t["sinkage"], t["slip"], t["lateral_slip"] = sink, s, q
-        t["W"], t["DP"], t["T"], t["Fy"], t["Fn"] = W, d * DP * fade, d * T * fade, Fy, Fn
+        t["W"], t["DP"], t["T"], t["Fy"], t["Fn"] = W, dpf, tf, Fy, Fn
         return wrench
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (N, 3) arrays."""
+    out = np.empty_like(u)
+    out[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    return out

@@ -49,6 +49,9 @@ class SoilTable:
         data[..., 3:] = f["Fy"]
         self.data = data
         self.dWdz_end = (data[-1, :, 0] - data[-2, :, 0]) / self.dz  # (ns,) extrapolation slope
+        self._flat = data.reshape(nz * ns, 3 + nq)
+        self._offsets = np.array([0, 1, ns, ns + 1])
+        self._arange = np.arange(64)
 
     def lookup(self, z, s, q=None):
         """Interpolated forces for N wheels.
@@ -60,30 +63,29 @@ class SoilTable:
             W, DP, T, Fy: arrays (N,) (Fy is zeros when q is None).
         """
         z = np.asarray(z, float)
-        s = np.asarray(s, float)
-        fz = np.clip(z, 0.0, self.z_max) / self.dz
+        fz = np.clip(z, 0.0, self.z_max) * (1.0 / self.dz)
         i = np.minimum(fz.astype(np.intp), self.nz - 2)
-        tz = (fz - i)[:, None]
-        fs = (np.clip(s, SLIP_MIN, SLIP_MAX) - SLIP_MIN) / self.ds
+        tz = fz - i
+        fs = (np.clip(s, SLIP_MIN, SLIP_MAX) - SLIP_MIN) * (1.0 / self.ds)
         j = np.minimum(fs.astype(np.intp), self.ns - 2)
-        ts = (fs - j)[:, None]
-        d = self.data
-        row = (1 - tz) * ((1 - ts) * d[i, j] + ts * d[i, j + 1]) + tz * ((1 - ts) * d[i + 1, j] + ts * d[i + 1, j + 1])
-        over = np.maximum(z - self.z_max, 0.0)
-        slope = (1 - ts[:, 0]) * self.dWdz_end[j] + ts[:, 0] * self.dWdz_end[j + 1]
+        ts = fs - j
+        # one gather of the 4 corner rows: (N, 4, 3 + nq)
+        corners = self._flat[(i * self.ns + j)[:, None] + self._offsets]
+        wts = np.stack(((1 - tz) * (1 - ts), (1 - tz) * ts, tz * (1 - ts), tz * ts), axis=1)
+        row = np.einsum("nk,nkc->nc", wts, corners)
         on = z > 0
-        W = np.where(on, row[:, 0] + slope * over, 0.0)
-        DP = np.where(on, row[:, 1], 0.0)
-        T = np.where(on, row[:, 2], 0.0)
+        over = np.maximum(z - self.z_max, 0.0)
+        slope = (1 - ts) * self.dWdz_end[j] + ts * self.dWdz_end[j + 1]
+        row[~on] = 0.0
+        W = row[:, 0] + np.where(on, slope * over, 0.0)
         if q is None:
-            return W, DP, T, np.zeros_like(W)
-        fq = np.clip(np.abs(np.asarray(q, float)), 0.0, self.q[-1]) / self.dq
+            return W, row[:, 1], row[:, 2], np.zeros_like(W)
+        fq = np.minimum(np.abs(q), self.q[-1]) * (1.0 / self.dq)
         k = np.minimum(fq.astype(np.intp), self.nq - 2)
         tq = fq - k
-        n = np.arange(len(z))
-        lat = row[:, 3:]
-        Fy = np.where(on, (1 - tq) * lat[n, k] + tq * lat[n, k + 1], 0.0)
-        return W, DP, T, Fy
+        n = self._arange[: len(z)] if len(z) <= len(self._arange) else np.arange(len(z))
+        Fy = (1 - tq) * row[n, 3 + k] + tq * row[n, 4 + k]
+        return W, row[:, 1], row[:, 2], Fy
 
     def static_sinkage(self, load: float) -> float:
         """Sinkage (m) where the table's W(z, s=0) equals ``load`` (N)."""

@@ -32,7 +32,7 @@ class SoilTable:
     """
 
     def __init__(self, soil: SoilParams, wheel: WheelParams, nz: int = 64, ns: int = 59,
-                 nq: int = 11, q_max: float = 1.0):
+                 nq: int = 21, q_max: float = 1.0):
         self.soil, self.wheel = soil, wheel
         self.nz, self.ns, self.nq = nz, ns, nq
         self.z_max = max_sinkage(wheel)

@@ -49,13 +49,19 @@ class RigConfig:
 
 
 def build_rig(wheel: WheelParams, load: float, cfg: RigConfig = RigConfig()) -> mujoco.MjModel:
-    """The single-wheel rig for a vertical ``load`` (N) (> wheel weight)."""
-    sled_mass = load / GRAVITY - wheel.mass
-    if sled_mass <= 0:
-        raise ValueError(f"load={load!r} is invalid; valid range: load > wheel weight {wheel.mass * GRAVITY:.3g} N")
+    """The single-wheel rig for a vertical ``load`` (N) (> wheel weight), compiled."""
     spec = mujoco.MjSpec()
     spec.option.timestep = cfg.timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    add_rig(spec, wheel, load, cfg)
+    return spec.compile()
+
+
+def add_rig(spec: mujoco.MjSpec, wheel: WheelParams, load: float, cfg: RigConfig = RigConfig()) -> None:
+    """Add the rig (carriage, sled, wheel, two velocity servos) to ``spec``."""
+    sled_mass = load / GRAVITY - wheel.mass
+    if sled_mass <= 0:
+        raise ValueError(f"load={load!r} is invalid; valid range: load > wheel weight {wheel.mass * GRAVITY:.3g} N")
     spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[5, 1, 0.1], contype=0, conaffinity=0)
     car = spec.worldbody.add_body(name="carriage", pos=[0, 0, wheel.radius])
     car.add_joint(name="carriage_x", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
@@ -72,7 +78,6 @@ def build_rig(wheel: WheelParams, load: float, cfg: RigConfig = RigConfig()) -> 
     for name, joint, kv in (("carriage_servo", "carriage_x", cfg.kv_carriage), ("wheel_servo", "wheel_spin", cfg.kv_wheel)):
         act = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.set_to_velocity(kv=kv)
-    return spec.compile()
 
 
 def rig_point(soil: SoilParams | SoilTable, wheel: WheelParams, load: float, slip: float,

@@ -23,7 +23,7 @@ from terrabench.soil.testbed import GRAVITY, RigConfig
 from terrabench.systems.base import MethodInfo, System, check_finite_positive
 
 SCENARIO = "soil/single-wheel-v1"
-LOADS = (50.0, 100.0, 150.0)
+LOADS = (50.0, 100.0, 150.0, 370.0)
 SLIPS = (-0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 #: documented slip range of an instance: skid down to -0.9, slip up to 1 (spinning in place)
 SLIP_RANGE = (-0.9, 1.0)

@@ -78,6 +78,9 @@ class SceneRenderer:
         self.track_body = 0 if track is None else model.body(track).id
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, height)
+        # scenes without lights of their own: a brighter headlight (visual only, no physics)
+        model.vis.headlight.ambient[:] = np.maximum(model.vis.headlight.ambient, 0.35)
+        model.vis.headlight.diffuse[:] = np.maximum(model.vis.headlight.diffuse, 0.6)
         self._ctx = _gl_context(width, height)
         self.scene = mujoco.MjvScene(model, maxgeom=10000)
         self.option = mujoco.MjvOption()

@@ -294,6 +294,55 @@ def terrain_show(
     plot_terrain(ter, out, paths)
     console.print(f"wrote {out} ({len(paths)} stored path(s) drawn)")
 
+@app.command("render")
+@friendly
+def render(
+    system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
+    method: Optional[str] = typer.Option(None, help="method id (default: the system's first default method)"),
+    terrain: str = typer.Option(..., help="instance (terrain) id, e.g. B-07"),
+    seed: int = typer.Option(0, help="trial seed (0 = the released start)"),
+    timeout: Optional[float] = typer.Option(None, help="simulated-time limit (s)"),
+    set_: Optional[list[str]] = typer.Option(None, "--set", help="config override KEY=VALUE (repeatable)"),
+    out: Path = typer.Option(Path("trial.mp4"), help="output: .mp4, .gif or .png (a frame strip)"),
+    fps: float = typer.Option(30.0, help="frames per simulated second"),
+    width: int = typer.Option(640, help="frame width (pixels)"),
+    height: int = typer.Option(480, help="frame height (pixels)"),
+) -> None:
+    """Render one trial (the benchmark's own episode) to a clip from a camera following the robot."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from terrabench.catalog import system as get_system
+    from terrabench.config import parse_overrides
+    from terrabench.report.render import VIDEO_SUFFIXES
+
+    if out.suffix.lower() not in VIDEO_SUFFIXES:
+        raise ValueError(f"--out {str(out)!r}: unknown suffix {out.suffix!r}; valid: {', '.join(VIDEO_SUFFIXES)}")
+    if not (fps > 0) or fps == float("inf"):
+        raise ValueError(f"--fps must be a positive number, got {fps}")
+    if width <= 0 or height <= 0:
+        raise ValueError(f"--width and --height must be positive, got {width}x{height}")
+    sysobj = get_system(system)
+    overrides = parse_overrides(set_ or [])
+    if timeout is not None:
+        if sysobj.timeout_key is None:
+            raise ValueError(f"system {system!r} has no time limit to set")
+        overrides[sysobj.timeout_key] = timeout
+    spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,
+                       overrides=overrides)[-1]
+    overlay = None
+    if system == "mrs-cwc":
+        from terrabench.systems.mrs_cwc.env import overlay
+    from terrabench.report.render import render_trial
+
+    with Progress(TextColumn("rendering"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                  console=console) as bar:
+        job = bar.add_task("frames", total=None)
+        result = render_trial(sysobj, spec, out, fps=fps, width=width, height=height, overlay=overlay,
+                              progress=lambda done, total: bar.update(job, completed=done, total=total))
+    console.print(f"wrote {result['path']} ({result['frames']} frames, {result['sim_time']:.2f} simulated s, "
+                  f"status {result['status']}); render speed {result['fps_rendered']:.1f} frames/s "
+                  f"at {width}x{height}", highlight=False)
+
 def main() -> None:
     os.environ.setdefault("MPLBACKEND", "Agg")
     app()

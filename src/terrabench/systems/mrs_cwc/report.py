@@ -94,12 +94,14 @@ class Variant:
     config: dict[str, Any]
 
 
-def write_report(store, out_dir: Path) -> Path:
+def write_report(store, out_dir: Path, render: bool = False) -> Path:
     """Write the MRS-CWC report from ``store``'s rows; returns the path of ``index.html``.
 
     Args:
         store: a :class:`~terrabench.benchmark.store.ResultsStore` (read only is enough).
         out_dir: folder for the HTML page, PNG figures and CSV tables (created if missing).
+        render: also render a frame strip of a short MRS-CWC + TDT trial (:func:`strip_html`;
+            off by default: it costs a few seconds of simulation and GL rendering).
 
     Raises:
         ValueError: the store holds no mrs-cwc trials.
@@ -164,6 +166,8 @@ def write_report(store, out_dir: Path) -> Path:
                     "most stored methods, then the most varied outcomes). Top: leader paths; below: yaw "
                     "stiffness K and |tau_env| of the MRS-CWC + TDT run, as stored (every protocol.log_period).")
 
+    if render:
+        page.raw(strip_html(out_dir, tagged))
     page.h2("A* waypoints: our planner vs the released ones")
     _astar_section(page, tagged, variants)
 
@@ -176,6 +180,22 @@ def write_report(store, out_dir: Path) -> Path:
     page.raw(_provenance_html(store, rows, rows0, variants))
 
     return page.finish()
+
+
+def strip_html(out_dir: Path, rows: list[dict[str, Any]], seconds: float = 3.0, name: str = "trial_strip.png") -> str:
+    """Render four snapshots of a short MRS-CWC + TDT trial (the first stored cwc-tdt terrain,
+    else A-01; ``seconds`` simulated) into ``out_dir/name``; returns the HTML that shows it."""
+    from terrabench.report.render import frame_strip, snapshots
+    from terrabench.systems.mrs_cwc.env import overlay
+    from terrabench.systems.mrs_cwc.scenarios import SYSTEM
+
+    tid = next((r["instance"] for r in rows if r["method"].startswith("cwc-tdt")), "A-01")
+    spec = SYSTEM.plan(methods=["cwc-tdt"], instances=[tid], overrides={"protocol.timeout": seconds + 0.1})[0]
+    times = [seconds * k / 3 for k in range(4)]
+    frame_strip(snapshots(SYSTEM, spec, times, width=320, height=240, overlay=overlay), Path(out_dir) / name)
+    return (f"<figure><img src='{name}' style='max-width:100%'><figcaption>MRS-CWC + TDT on {tid}, the first "
+            f"{seconds:g} simulated seconds (t = {', '.join(f'{t:g}' for t in times)} s), rendered from the "
+            "benchmark's own episode (<code>terrabench render</code> makes a clip).</figcaption></figure>")
 
 
 # ------------------------------------------------------------------ variants and tables

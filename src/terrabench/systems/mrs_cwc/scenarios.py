@@ -69,6 +69,11 @@ class MRSCWCSystem(System):
     def make_controller(self, spec: TrialSpec, cfg: MRSConfig, task: MRSTask):
         return make_controller(task.method, task.cfg, task.terrain)
 
+    def env_adapter(self):
+        from terrabench.systems.mrs_cwc.env import MRSEnvAdapter
+
+        return MRSEnvAdapter()
+
     def summarize(self, rows: list[dict[str, Any]]):
         from terrabench.systems.mrs_cwc.summary import summary_table
 

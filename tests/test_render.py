@@ -1,0 +1,110 @@
+"""Headless rendering on the CPU (EGL/OSMesa): clips, snapshots, frame strips, the CLI command."""
+
+import imageio_ffmpeg
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from terrabench.cli import app
+from terrabench.report.render import frame_strip, frame_times, render_trial, snapshots
+from terrabench.systems.mrs_cwc.env import overlay
+from terrabench.systems.mrs_cwc.scenarios import SYSTEM
+
+W, H = 160, 120
+
+
+def spec(timeout=1.0, terrain="B-07"):
+    return SYSTEM.plan(methods=["cwc-tdt"], instances=[terrain], overrides={"protocol.timeout": timeout})[0]
+
+
+def decode(path):
+    gen = imageio_ffmpeg.read_frames(str(path))
+    meta = next(gen)
+    w, h = meta["size"]
+    return [np.frombuffer(b, np.uint8).reshape(h, w, 3) for b in gen]
+
+
+def test_a_one_second_trial_renders_to_an_mp4_of_the_expected_frames(tmp_path):
+    seen = []
+    out = render_trial(SYSTEM, spec(), tmp_path / "t.mp4", fps=10, width=W, height=H, overlay=overlay,
+                       progress=lambda done, total: seen.append((done, total)))
+    assert out["frames"] == out["expected"] == 10 and out["status"] == "timeout"
+    assert seen[-1] == (10, 10) and out["fps_rendered"] > 0
+    frames = decode(tmp_path / "t.mp4")
+    assert len(frames) == 10 and frames[0].shape == (H, W, 3)
+    for f in frames:
+        assert f.reshape(-1, 3).std(axis=0).max() > 10  # not one colour: terrain, robot, overlay
+
+
+def test_the_camera_follows_the_robot():
+    # over 19 s the chain drives a few metres (several camera distances' worth of frame); the
+    # robot's (blue) pixels stay near the frame centre in both frames, and the view has changed
+    sp = spec(timeout=20.0, terrain="A-01")
+    f0, f1 = snapshots(SYSTEM, sp, [0.0, 19.0], width=W, height=H)
+    centroids = []
+    for f in (f0, f1):
+        r, g, b = (f[..., i].astype(int) for i in range(3))
+        blue = (b > r + 30) & (b > g + 10)
+        ys, xs = np.nonzero(blue)
+        assert len(xs) > 20  # the robot is in view
+        centroids.append((xs.mean(), ys.mean()))
+    for cx, cy in centroids:
+        assert abs(cx - W / 2) < W / 4 and abs(cy - H / 2) < H / 4
+    assert not np.array_equal(f0, f1)
+
+
+def test_snapshots_count_shape_and_order():
+    frames = snapshots(SYSTEM, spec(), [0.5, 0.0, 0.25], width=W, height=H)
+    assert len(frames) == 3 and all(f.shape == (H, W, 3) and f.dtype == np.uint8 for f in frames)
+    again = snapshots(SYSTEM, spec(), [0.0], width=W, height=H)
+    np.testing.assert_array_equal(frames[1], again[0])
+    with pytest.raises(ValueError, match="times"):
+        snapshots(SYSTEM, spec(), [])
+
+
+def test_frame_strip_and_gif(tmp_path):
+    from PIL import Image
+
+    a = np.zeros((20, 30, 3), np.uint8)
+    p = frame_strip([a, a + 255], tmp_path / "s.png")
+    assert Image.open(p).size == (30 + 4 + 30, 20)
+    out = render_trial(SYSTEM, spec(0.5), tmp_path / "t.gif", fps=4, width=64, height=48)
+    assert out["frames"] == 2 and Image.open(tmp_path / "t.gif").n_frames == 2
+
+
+def test_frame_times():
+    assert frame_times(0.025, 40, 10, None) == list(range(0, 40, 4))
+    assert frame_times(0.025, 10, 1000, None) == list(range(10))  # at most one per period
+    assert frame_times(0.025, 10, None, 3) == [0, 3, 6, 9]
+    with pytest.raises(ValueError, match="fps"):
+        frame_times(0.025, 10, 0, None)
+
+
+def test_report_strip(tmp_path):
+    from terrabench.systems.mrs_cwc.report import strip_html
+
+    html = strip_html(tmp_path, [], seconds=0.5)
+    assert "trial_strip.png" in html and (tmp_path / "trial_strip.png").exists()
+
+
+def test_cli_render(tmp_path):
+    r = CliRunner().invoke(app, ["render", "mrs-cwc", "--method", "cwc-tdt", "--terrain", "A-01", "--timeout", "0.5",
+                                 "--out", str(tmp_path / "c.mp4"), "--fps", "10", "--width", "96", "--height", "64"])
+    assert r.exit_code == 0, r.output
+    assert "frames/s" in r.output and len(decode(tmp_path / "c.mp4")) == 5
+
+
+@pytest.mark.parametrize("args, match", [
+    (["--terrain", "Z-99"], "unknown terrain"),
+    (["--terrain", "A-01", "--method", "nope"], "unknown mrs-cwc method"),
+    (["--terrain", "A-01", "--out", "x.avi"], "unknown suffix"),
+    (["--terrain", "A-01", "--fps", "0"], "--fps"),
+    (["--terrain", "A-01", "--width", "0"], "--width"),
+])
+def test_cli_render_bad_input_is_one_line(args, match, tmp_path):
+    if "--out" not in args:
+        args = args + ["--out", str(tmp_path / "x.mp4")]
+    r = CliRunner().invoke(app, ["render", "mrs-cwc", *args])
+    assert r.exit_code == 2 and match in r.output
+    r = CliRunner().invoke(app, ["render", "nosys", "--terrain", "A-01", "--out", str(tmp_path / "x.mp4")])
+    assert r.exit_code == 2 and "nosys" in r.output

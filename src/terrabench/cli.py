@@ -294,6 +294,7 @@ def terrain_show(
     plot_terrain(ter, out, paths)
     console.print(f"wrote {out} ({len(paths)} stored path(s) drawn)")
 
+
 @app.command("render")
 @friendly
 def render(
@@ -329,23 +330,22 @@ def render(
         overrides[sysobj.timeout_key] = timeout
     spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,
                        overrides=overrides)[-1]
-    overlay = None
-    if system == "mrs-cwc":
-        from terrabench.systems.mrs_cwc.env import overlay
     from terrabench.report.render import render_trial
 
     with Progress(TextColumn("rendering"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                   console=console) as bar:
         job = bar.add_task("frames", total=None)
-        result = render_trial(sysobj, spec, out, fps=fps, width=width, height=height, overlay=overlay,
+        result = render_trial(sysobj, spec, out, fps=fps, width=width, height=height, overlay=sysobj.render_overlay,
                               progress=lambda done, total: bar.update(job, completed=done, total=total))
     console.print(f"wrote {result['path']} ({result['frames']} frames, {result['sim_time']:.2f} simulated s, "
                   f"status {result['status']}); render speed {result['fps_rendered']:.1f} frames/s "
                   f"at {width}x{height}", highlight=False)
 
+
 def main() -> None:
     os.environ.setdefault("MPLBACKEND", "Agg")
     app()
+
 
 if __name__ == "__main__":
     main()

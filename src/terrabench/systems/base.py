@@ -217,6 +217,10 @@ class System:
         see :mod:`terrabench.envs`. Systems without an env leave this unimplemented."""
         raise NotImplementedError(f"system {self.id!r} has no Gymnasium environment")
 
+    def render_overlay(self, task: Task, obs: Any) -> str:
+        """The system's line of a rendered frame's text overlay (e.g. the stiffness K); '' for none."""
+        return ""
+
     # ------------------------------------------------------------------ results (override)
     def summarize(self, rows: list[dict[str, Any]]) -> Any:
         """A rich renderable of stored rows beside the paper's numbers."""

@@ -30,10 +30,10 @@ Reward = ``progress`` (metres the leader got closer to the target this period, x
 ``progress_weight``) + ``energy`` (- ``energy_weight`` x joules drawn this period) +
 ``success`` (``success_bonus`` on arrival), terms in ``info["reward_terms"]``.
 
-The logged ``tau_env`` column is the CWC law's environment-torque estimate (paper eq. 11),
-which the adapter recomputes from the observation and the previously applied stiffness
-exactly as :class:`~terrabench.systems.mrs_cwc.control.StiffnessLaw` does, so that an env
-driven by the benchmark's controller logs the benchmark's series bitwise.
+The logged ``tau_env`` column is a diagnostic of the CWC body law (its environment-torque
+estimate, paper eq. 11), not a measurement: an action carries none, so env-driven episodes log
+NaN there. Everything physical (positions, stiffness, energy, metrics) is the benchmark's,
+bitwise, when the env is driven by the benchmark's controller.
 """
 
 from __future__ import annotations
@@ -88,14 +88,10 @@ class MRSEnvAdapter:
 
     # ------------------------------------------------------------------ episode
     def reset(self, task) -> None:
-        """Start of an episode: the tau_env estimator's memory (as a fresh StiffnessLaw)."""
+        """Start of an episode."""
         self._task = task
         self._variant = task.method.variant
         self._n = task.cfg.chain.n_units
-        self._law = task.cfg.stiffness
-        self._period = task.cfg.protocol.control_period
-        self._k = task.cfg.stiffness.k_init
-        self._prev_rate: float | None = None
         space = self.action_space(task)
         self._low, self._high = space.low, space.high
 
@@ -122,23 +118,9 @@ class MRSEnvAdapter:
         cmd.wheel_speed[:] = a[: 2 * n].reshape(n, 2)
         if self._variant == "spring":
             cmd.yaw_stiffness = float(a[2 * n])
-            cmd.tau_env = self._tau_env(task.obs)
-            self._k = cmd.yaw_stiffness
         elif self._variant == "motor":
             cmd.yaw_target = a[2 * n :].copy()
         return cmd
-
-    def _tau_env(self, obs: Observation) -> float:
-        # the same arithmetic, in the same order, as StiffnessLaw.update
-        c = self._law
-        yaw_rate = float(obs.yaw_rate[0])
-        tau_l, tau_r = float(obs.wheel_torque[0][0]), float(obs.wheel_torque[0][1])
-        q1 = float(obs.joint_yaw[0])
-        alpha = 0.0 if self._prev_rate is None else (yaw_rate - self._prev_rate) / self._period
-        self._prev_rate = yaw_rate
-        tau_m = c.motor_gain * (tau_r - tau_l)
-        tau_spring = -self._k * q1
-        return c.inertia * alpha + tau_m - tau_spring
 
     def reward(self, prev: dict[str, np.ndarray], obs: dict[str, np.ndarray], energy: float,
                status: str) -> tuple[float, dict[str, float]]:

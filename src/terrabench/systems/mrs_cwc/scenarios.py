@@ -74,6 +74,11 @@ class MRSCWCSystem(System):
 
         return MRSEnvAdapter()
 
+    def render_overlay(self, task: MRSTask, obs) -> str:
+        from terrabench.systems.mrs_cwc.env import overlay
+
+        return overlay(task, obs)
+
     def summarize(self, rows: list[dict[str, Any]]):
         from terrabench.systems.mrs_cwc.summary import summary_table
 
@@ -82,7 +87,7 @@ class MRSCWCSystem(System):
     def report(self, store, out_dir: Path) -> Path:
         from terrabench.systems.mrs_cwc.report import write_report
 
-        return write_report(store, Path(out_dir))
+        return write_report(store, Path(out_dir), render=True)
 
 
 def jittered(cfg: MRSConfig, seed: int):

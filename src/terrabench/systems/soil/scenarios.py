@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import re
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
-from terrabench.config import from_dict, to_dict
+from terrabench.config import to_dict
 from terrabench.soil.presets import HIT_MRII_WHEEL, MARS_SOFT, SOILS
 from terrabench.soil.terramechanics import SoilParams, WheelParams, steady_state
 from terrabench.soil.testbed import GRAVITY, RigConfig
@@ -40,6 +40,8 @@ class SoilTestbedConfig:
         control_period: how often the (constant) servo targets are re-applied and the log is
             sampled (s).
         custom_soil: parameters of the soil named ``custom`` in an instance id.
+        soil: the soil this trial runs on: set by planning from the instance id (a preset, or
+            ``custom_soil``), so the parameters are stored and hashed with the trial.
     """
 
     wheel: WheelParams = HIT_MRII_WHEEL
@@ -47,6 +49,7 @@ class SoilTestbedConfig:
     control_period: float = 0.01
     custom_soil: SoilParams = field(default_factory=lambda: SoilParams(**{**to_dict(MARS_SOFT), "name": "custom",
                                                                          "source": "user-set (--set custom_soil.*)"}))
+    soil: SoilParams = MARS_SOFT
 
     def __post_init__(self) -> None:
         check_finite_positive("control_period", self.control_period, "s")
@@ -110,29 +113,16 @@ class SoilSystem(System):
         if not load > cfg.wheel.mass * GRAVITY:
             raise ValueError(f"load {load} N in {instance!r} must exceed the wheel's weight "
                              f"{cfg.wheel.mass * GRAVITY:.3g} N")
-        out = to_dict(cfg)
         # the soil the trial runs on is part of its config (stored and hashed)
-        out["soil"] = to_dict(cfg.custom_soil if soil == "custom" else SOILS[soil])
-        del out["custom_soil"]
-        if method == "analytic":
-            out = {"wheel": out["wheel"], "soil": out["soil"], "rig": {"omega": out["rig"]["omega"]}}
-        return out
+        return to_dict(replace(cfg, soil=cfg.custom_soil if soil == "custom" else SOILS[soil]))
 
-    def load_config(self, config):
-        c = dict(config)
-        soil = from_dict(SoilParams, c.pop("soil"))
-        rig = from_dict(RigConfig, c.pop("rig", {}))
-        cfg = from_dict(SoilTestbedConfig, {k: v for k, v in c.items()})
-        return cfg, soil, rig
-
-    def make_task(self, spec: TrialSpec, loaded):
+    def make_task(self, spec: TrialSpec, cfg: SoilTestbedConfig):
         from terrabench.systems.soil.task import RigTask
 
-        cfg, soil, rig = loaded
         _, load, slip = parse_instance(spec.instance)
-        return RigTask(soil, cfg.wheel, load, slip, rig, cfg.control_period)
+        return RigTask(cfg.soil, cfg.wheel, load, slip, cfg.rig, cfg.control_period)
 
-    def make_controller(self, spec: TrialSpec, loaded, task):
+    def make_controller(self, spec: TrialSpec, cfg: SoilTestbedConfig, task):
         from terrabench.systems.soil.task import RigController
 
         return RigController(task.v, task.rig.omega)
@@ -143,12 +133,13 @@ class SoilSystem(System):
             res.status = "done"
             return res
         t0 = time.perf_counter()
-        cfg, soil, rig = self.load_config(spec.config)
+        cfg = self.load_config(spec.config)
+        soil, omega = cfg.soil, cfg.rig.omega
         _, load, slip = parse_instance(spec.instance)
-        r = steady_state(load, slip, soil, cfg.wheel, rig.omega)
+        r = steady_state(load, slip, soil, cfg.wheel, omega)
         dp, tq, v = float(r["DP_N"]), float(r["torque_Nm"]), float(r["v_mps"])
         metrics = {"DP_N": dp, "torque_Nm": tq, "sinkage_m": float(r["sinkage_m"]), "slip_measured": slip,
-                   "DP_coeff": dp / load, "efficiency": dp * v / (tq * rig.omega) if tq > 0 else float("nan"),
+                   "DP_coeff": dp / load, "efficiency": dp * v / (tq * omega) if tq > 0 else float("nan"),
                    "load_N": load, "slip": slip}
         return TrialResult("done", metrics, {}, time.perf_counter() - t0, {"soil": soil.name, "source": soil.source})
 

@@ -23,6 +23,7 @@ from terrabench.systems.mrs_cwc.scenarios import SYSTEM
 
 PLUGIN_NAME = "tb_fault_plugin"
 PLUGIN = textwrap.dedent('''
+    import ctypes
     import os
     import signal
     import time
@@ -44,6 +45,8 @@ PLUGIN = textwrap.dedent('''
                 os.kill(os.getpid(), signal.SIGKILL)
             elif fault == "exit":
                 os._exit(3)
+            elif fault == "segv":
+                ctypes.string_at(0)  # a segfault in C code
             elif fault == "raise":
                 raise RuntimeError("boom from the controller")
             elif fault == "hang":
@@ -58,12 +61,12 @@ PLUGIN = textwrap.dedent('''
             cmd.yaw_stiffness = 50.0
 
 
-    for fault in ("kill", "exit", "raise", "hang", "once"):
+    for fault in ("kill", "exit", "segv", "raise", "hang", "once"):
         register_method(Method(f"fault-{fault}-tdt", f"fault {fault}", "spring", f"fault-{fault}", "tdt", "test"),
                         lambda n, cfg, fault=fault: Law(n, fault))
 ''')
 
-FAULTS = ("kill", "exit", "raise", "hang", "once")
+FAULTS = ("kill", "exit", "segv", "raise", "hang", "once")
 HANG_BUDGET = 6.0
 
 
@@ -170,31 +173,32 @@ def test_local_pool_survives_every_fault_and_the_next_run_retries_only_errors(pl
         t0 = time.perf_counter()
         s = run_trials(specs, st, workers=2, wall_budget=budget)
         assert time.perf_counter() - t0 < HANG_BUDGET + 60
-        assert s.finished == 7 and not s.interrupted
+        assert s.finished == 8 and not s.interrupted
         rows = {r["method"]: r for r in st.rows() if r["method"].startswith("fault")}
         assert rows["fault-kill-tdt"]["status"] == "error"
         assert rows["fault-kill-tdt"]["info"]["error"] == "worker died: signal 9 (SIGKILL)"
         assert rows["fault-kill-tdt"]["info"]["attempts"] == 2
         assert rows["fault-exit-tdt"]["info"]["error"] == "worker died: exit code 3"
+        assert rows["fault-segv-tdt"]["info"]["error"] == "worker died: signal 11 (SIGSEGV)"
         assert rows["fault-raise-tdt"]["status"] == "error"
         assert "RuntimeError: boom from the controller" in rows["fault-raise-tdt"]["info"]["error"]
         assert rows["fault-hang-tdt"]["info"]["error"].startswith("hung: no result within the wall budget of 6.0 s")
         assert rows["fault-once-tdt"]["status"] == "timeout"  # died once, then ran in a fresh worker
         for spec in clean + [bad["once"]]:
             assert_same_trial(st, reference, spec.key)
-        assert (s.retried, s.worker_deaths, s.hung, s.faults, s.rerun_errors) == (3, 5, 1, 4, 0)
-        assert s.statuses == {"timeout": 3, "error": 4}
+        assert (s.retried, s.worker_deaths, s.hung, s.faults, s.rerun_errors) == (4, 7, 1, 5, 0)
+        assert s.statuses == {"timeout": 3, "error": 5}
         text = s.describe()
-        assert "3 retried after a worker died" in text and "1 hung past the wall budget" in text
-        assert "4 error (" in text and "worker died: exit code 3" in text
+        assert "4 retried after a worker died" in text and "1 hung past the wall budget" in text
+        assert "5 error (" in text and "worker died: exit code 3" in text
 
         kept = {r["key"]: r["finished_at"] for r in st.rows() if r["status"] != "error"}
         again = run_trials(specs, st, workers=2, wall_budget=budget)
-        assert again.skipped == 3 and again.finished == 4 and again.rerun_errors == 4
-        assert again.statuses == {"error": 4} and again.faults == 4
-        assert "4 error rows from earlier runs retried" in again.describe()
+        assert again.skipped == 3 and again.finished == 5 and again.rerun_errors == 5
+        assert again.statuses == {"error": 5} and again.faults == 5
+        assert "5 error rows from earlier runs retried" in again.describe()
         rows = st.rows()
-        assert len(rows) == 7  # nothing duplicated
+        assert len(rows) == 8  # nothing duplicated
         assert {r["key"]: r["finished_at"] for r in rows if r["status"] != "error"} == kept  # nothing touched
 
 
@@ -254,3 +258,20 @@ def test_ray_survives_every_fault_and_the_next_run_retries_only_errors(ray_sessi
         assert again.skipped == 2 and again.finished == 2 and again.rerun_errors == 2
         assert again.statuses == {"error": 2}
         assert len(st.rows()) == 6
+
+
+# ------------------------------------------------------------------ the command line
+def test_cli_run_with_a_killed_worker_finishes_and_stores_every_trial(plugin, tmp_path):
+    from typer.testing import CliRunner
+
+    from terrabench.cli import app
+
+    store = tmp_path / "cli.duckdb"
+    r = CliRunner().invoke(app, ["run", "mrs-cwc", "--methods", "fault-kill-tdt,cwc-tdt", "--terrains", "A-01",
+                                 "--timeout", "1", "--workers", "2", "--store", str(store), "--quiet"])
+    text = " ".join(r.output.split())
+    assert r.exit_code in (0, 1), r.output  # 1 once the command line exits non-zero on faults
+    assert "2 run" in text and "Traceback" not in r.output and "BrokenProcessPool" not in r.output
+    with ResultsStore(store, read_only=True) as st:
+        got = {row["method"]: (row["status"], row["info"].get("error")) for row in st.rows()}
+    assert got == {"fault-kill-tdt": ("error", "worker died: signal 9 (SIGKILL)"), "cwc-tdt": ("timeout", None)}

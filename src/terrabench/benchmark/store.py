@@ -7,7 +7,8 @@ Tables:
     ``series(key, name, t_index, values)``: each stored time-series column as a DOUBLE[] list.
 
 A trial's series and its row are written in one transaction, row last, so an interrupted
-run leaves either the whole trial or nothing; re-running skips the keys already present.
+run leaves either the whole trial or nothing; re-running skips the keys already present,
+except rows with status ``error`` (a fault, not a physics outcome), which it runs again.
 """
 
 from __future__ import annotations
@@ -163,10 +164,23 @@ class ResultsStore:
         return moved
 
     # ---------------------------------------------------------------- reading
-    def done_keys(self, keys: Iterable[str] | None = None) -> set[str]:
-        rows = self.con.execute("SELECT key FROM trials").fetchall()
-        done = {r[0] for r in rows}
+    def done_keys(self, keys: Iterable[str] | None = None, *, retry_errors: bool = False) -> set[str]:
+        """Keys of the stored trials (restricted to ``keys`` if given).
+
+        With ``retry_errors=True`` the rows with status ``error`` are left out: an error is a
+        fault of the run (a worker that died or hung, an exception), not a physics outcome,
+        so the runner runs those trials again. ``timeout``, ``fell``, ``diverged`` and the
+        other outcomes are final. The default (every stored row) is what "is this key
+        taken?" needs (e.g. :meth:`rekey`).
+        """
+        sql = "SELECT key FROM trials" + (" WHERE status <> 'error'" if retry_errors else "")
+        done = {r[0] for r in self.con.execute(sql).fetchall()}
         return done if keys is None else done & set(keys)
+
+    def error_keys(self, keys: Iterable[str] | None = None) -> set[str]:
+        """Keys of the stored rows with status ``error`` (restricted to ``keys`` if given)."""
+        found = {r[0] for r in self.con.execute("SELECT key FROM trials WHERE status = 'error'").fetchall()}
+        return found if keys is None else found & set(keys)
 
     def rows(
         self,

@@ -15,7 +15,7 @@ from typing import Any, Mapping
 import numpy as np
 
 #: Every status a trial can end with. ``success`` is the only one counted as a success.
-STATUSES = ("success", "timeout", "fell", "stuck", "diverged", "error", "done")
+STATUSES = ("success", "timeout", "fell", "stuck", "diverged", "error", "done", "turned_over")
 
 
 def canonical_json(obj: Any) -> str:

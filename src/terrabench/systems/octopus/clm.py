@@ -19,6 +19,8 @@ from terrabench.systems.octopus.robot import ARMS, RobotConfig
 FLAT, UP, DOWN, UNDETECTABLE = "flat", "up-step", "down-step", "undetectable"
 GAIT_ORDER = ("RR", "RF", "LR", "LF")  # inferred from the paper's Fig. 14 description
 ARM_INDEX = {k: i for i, k in enumerate(ARMS)}
+#: elbow angle the lift phase straightens to (rad): the lifted tip then clears ~0.65 m
+ELBOW_LIFT = 0.3
 
 
 @dataclass(frozen=True)
@@ -48,6 +50,11 @@ class CLMConfig:
         h2: H2 of the COG-height rule: height of the robot origin above the track bottom less the
             tip radius (m) (fixed, like the paper's COG).
         release_boom: boom angle the arms return to on release (rad).
+        stall_lag: boom command ahead of the boom by this much while lowering = contact too (rad).
+        lift_margin: while lifting, booms hold once H exceeds H_EST by this (m) (our addition: eq. 28
+            read literally keeps lowering the booms until S > L and tips the robot over).
+        pitch_cap: while lifting, front booms hold above this pitch, rear booms below minus it (rad).
+        flip_min: lowest flipper command while climbing (rad).
         max_lead: largest lead of a joint command over the measured angle (rad).
     """
 
@@ -70,12 +77,16 @@ class CLMConfig:
     d_c: float = 0.1
     d_d: float = 0.08
     gait_pause: float = 0.4
-    d_e: float = 0.0873
+    d_e: float = 0.02
     d_f: float = 0.0873
     climb_distance: float = 0.3
     h2: float = 0.05
     release_boom: float = 0.0
     max_lead: float = 0.35
+    pitch_cap: float = 0.25
+    lift_margin: float = 0.06
+    flip_min: float = -0.8
+    stall_lag: float = 0.25
 
 
 # ---------------------------------------------------------------------------- pure rules
@@ -174,13 +185,15 @@ def transfer_step(phase: int, q: np.ndarray, cmd: np.ndarray, target: np.ndarray
     c = cmd.copy()
     if phase == 1:
         c[1] = q[1] + k * (ab - q[1]) - 0.02
-        c[2] = max(q[2] - d_lift, 0.3)
-        if q[1] <= ab + 0.03:
+        c[2] = max(c[2] - d_lift, ELBOW_LIFT)
+        if q[1] <= ab + 0.03 and q[2] <= ELBOW_LIFT + 0.05:
             return 2, c
         return 1, c
     if phase == 2:
         c[0] = c[0] + float(np.clip(target[0] - c[0], -d_swing, d_swing))
-        if abs(target[0] - q[0]) < 0.03:
+        # arm stop case 1: the swing is blocked (it lags its command): lower it where it is
+        if abs(target[0] - q[0]) < 0.03 or abs(c[0] - q[0]) > 0.25:
+            c[0] = q[0]
             return 3, c
         return 2, c
     if phase == 3:
@@ -285,7 +298,8 @@ class CLMController:
         ph = self.phase[k]
         if ph == 3:
             self.t3[i] += self.dt
-            if self.t3[i] > 0.2 and contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque):
+            stalled = self.cmd.arm[i, 1] - q[1] > cfg.stall_lag  # encoder: the boom stopped following
+            if self.t3[i] > 0.2 and (contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque) or stalled):
                 self._land(obs, k, i)
                 return i
         new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
@@ -294,7 +308,8 @@ class CLMController:
             self.t3[i] = 0.0
         if ph == 3:
             # the free-motion reference follows the slow changes (gravity, servo lag) while lowering
-            self.tau_ref[i] = 0.8 * self.tau_ref[i] + 0.2 * obs.tau_elbow[i]
+            if self.t3[i] <= 0.2:
+                self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
         self.cmd.arm[i] = c
         if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
             self.events.append((obs.t, f"{k}: no ground within reach (pit)"))
@@ -358,14 +373,22 @@ class CLMController:
         h = cog_height(self.tip_c[2:], cfg.h2)
         self.h = h
         released = False
+        lifting = h < self.h_est or self.s < cfg.climb_distance
         for i in range(4):
             nb, _, released = climb_rule(c.arm[i, 1], 0.0, h, self.h_est, self.s, cfg.climb_distance,
                                          cfg.d_e, cfg.d_f, cfg.release_boom)
+            # our addition: a front (rear) boom holds while the nose is too high (low)
+            front = i < 2
+            if lifting and ((front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap)
+                            or h > self.h_est + cfg.lift_margin):
+                nb = c.arm[i, 1]
             c.arm[i, 1] = nb
         for f in range(4):
             _, nf, released = climb_rule(0.0, c.flip[f], h, self.h_est, self.s, cfg.climb_distance,
                                          cfg.d_e, cfg.d_f, cfg.release_boom)
-            c.flip[f] = nf
+            if lifting and f < 2 and h < self.h_est:
+                nf = c.flip[f]  # front flippers stay raised against the riser until the tracks clear it
+            c.flip[f] = max(nf, cfg.flip_min)
         if released and self.state == CLIMB:
             self.state = RELEASE
             self.events.append((obs.t, f"released: H = {h:.3f} m, S = {self.s:.3f} m"))

@@ -15,6 +15,7 @@ from terrabench.registry import REGISTRY, Record, Registry
 SYSTEM_MODULES = {
     "mrs-cwc": "terrabench.systems.mrs_cwc",
     "beams": "terrabench.systems.beams",
+    "octopus": "terrabench.systems.octopus",
     "soil": "terrabench.systems.soil",
 }
 

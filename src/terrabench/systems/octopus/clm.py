@@ -1,0 +1,404 @@
+"""Compound locomotion mode (CLM): four arms walk while the crawlers drive (paper, Control system).
+
+The rules are small pure functions on measured values (each unit-tested); :class:`CLMController`
+strings them together: terrain exploration from the arm tips, the COG height and the travel past
+the edge, the front-flipper torque rule, the crawl gait with three-phase arm transfers ended by
+the elbow-torque contact signal, the arm stop cases, and the step-climbing sequence (eqs. 28-29).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from terrabench.systems.octopus import arm_kinematics as ak
+from terrabench.systems.octopus.robot import ARMS, RobotConfig
+
+FLAT, UP, DOWN, UNDETECTABLE = "flat", "up-step", "down-step", "undetectable"
+GAIT_ORDER = ("RR", "RF", "LR", "LF")  # inferred from the paper's Fig. 14 description
+ARM_INDEX = {k: i for i, k in enumerate(ARMS)}
+#: elbow angle the lift phase straightens to (rad): the lifted tip then clears ~0.65 m
+ELBOW_LIFT = 0.3
+
+
+@dataclass(frozen=True)
+class CLMConfig:
+    """CLM parameters (rad per 0.02 s tick unless said otherwise).
+
+    Attributes:
+        track_speed: crawler surface speed in compound mode (m/s).
+        climb_track_speed: crawler speed while lifting on a step (m/s).
+        sigma: (sigma1, sigma2, sigma3) terrain-case thresholds (m).
+        t0: flipper torque threshold T0 (N m).
+        d_a: flipper step dA of the torque rule.
+        a0: front flipper limit A0 (rad) (85 deg).
+        d_b_flip: flipper step dB at the limit.
+        flipper_start: front flipper angle on flat ground (rad); rear flippers start at 0.
+        arm_ab: boom lift angle A_B of a transfer (our sign: < 0 is up) (rad).
+        d_swing: swing step dA of a transfer; d_lift: boom/elbow step dB of a transfer.
+        k_boom: boom gain K of eqs. 19-21 (per tick).
+        contact_torque: elbow-torque change that signals a tip contact (N m).
+        hit_torque: elbow-torque change of a supporting arm that signals a collision (N m).
+        press: boom angle added after contact so the tip carries load (rad).
+        targets: transfer target tips in {R} (x, |y|, z) for (front, rear) arms (m), Table 2's analogue.
+        d_c, d_d: arm stop thresholds dC (x) and dD (z) (m).
+        gait_pause: support time between two transfers (s).
+        d_e: boom step dE of eq. 28; d_f: flipper step dF of eq. 29.
+        climb_distance: L of eqs. 28-29, travel past the edge before release (m) (0.6 x 0.5 m).
+        h2: H2 of the COG-height rule: height of the robot origin above the track bottom less the
+            tip radius (m) (fixed, like the paper's COG).
+        release_boom: boom angle the arms return to on release (rad).
+        stall_lag: boom command ahead of the boom by this much while lowering = contact too (rad).
+        lift_margin: while lifting, booms hold once H exceeds H_EST by this (m) (our addition: eq. 28
+            read literally keeps lowering the booms until S > L and tips the robot over).
+        pitch_cap: while lifting, front booms hold above this pitch, rear booms below minus it (rad).
+        flip_min: lowest flipper command while climbing (rad).
+        max_lead: largest lead of a joint command over the measured angle (rad).
+    """
+
+    track_speed: float = 0.1
+    climb_track_speed: float = 0.06
+    sigma: tuple[float, float, float] = (0.05, 0.45, 0.45)
+    t0: float = 40.0
+    d_a: float = 0.02
+    a0: float = 1.4835
+    d_b_flip: float = 0.02
+    flipper_start: float = 0.5
+    arm_ab: float = -0.6
+    d_swing: float = 0.04
+    d_lift: float = 0.04
+    k_boom: float = 0.15
+    contact_torque: float = 20.0
+    hit_torque: float = 45.0
+    press: float = 0.06
+    targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
+    d_c: float = 0.1
+    d_d: float = 0.08
+    gait_pause: float = 0.4
+    d_e: float = 0.02
+    d_f: float = 0.0873
+    climb_distance: float = 0.3
+    h2: float = 0.05
+    release_boom: float = 0.0
+    max_lead: float = 0.35
+    pitch_cap: float = 0.25
+    lift_margin: float = 0.06
+    flip_min: float = -0.8
+    stall_lag: float = 0.25
+
+
+# ---------------------------------------------------------------------------- pure rules
+def terrain_case(z: np.ndarray, sigma: tuple[float, float, float]) -> str:
+    """Terrain case from the four tip heights z (LF, RF, LR, RR) in {C} (paper's cases 1-3).
+
+    The paper's P1..P4 are LF, RF, RR, LR, so its z1 - z4 is LF - LR and z2 - z3 is RF - RR.
+    """
+    s1, s2, s3 = sigma
+    a, b = z[0] - z[2], z[1] - z[3]
+    if abs(a) < s1 and abs(b) < s1:
+        return FLAT
+    if s1 < a < s2 and s1 < b < s2:
+        return UP
+    if -s3 < a < -s1 and -s3 < b < -s1:
+        return DOWN
+    return UNDETECTABLE
+
+
+def step_height(z: np.ndarray) -> float:
+    """H_EST = (z1 + z2 - z3 - z4) / 2: front tips above rear tips (m) (eq. 9)."""
+    return float((z[0] + z[1] - z[2] - z[3]) / 2)
+
+
+def terrain_angles(p: np.ndarray) -> tuple[float, float]:
+    """Terrain pitch and roll (rad) from the tips p (4, 3) in {C} (eqs. 7-8, as angles).
+
+    T_P: front pair vs rear pair; T_R: left pair vs right pair.
+    """
+    dxp = p[0, 0] + p[1, 0] - p[2, 0] - p[3, 0]
+    dzp = p[0, 2] + p[1, 2] - p[2, 2] - p[3, 2]
+    dyr = p[0, 1] + p[2, 1] - p[1, 1] - p[3, 1]
+    dzr = p[0, 2] + p[2, 2] - p[1, 2] - p[3, 2]
+    return math.atan2(dzp, dxp), math.atan2(dzr, dyr)
+
+
+def cog_height(rear_tips_c: np.ndarray, h2: float) -> float:
+    """H = H1 - H2 (m) (eqs. 10-12): how high the robot stands above its rear-arm contacts.
+
+    H1 = |Z_C| of the rear tips' midpoint P in {C} (level frame at the robot origin, from the
+    IMU roll and pitch); H2 the fixed height of the origin above the track bottom less the tip
+    radius (the COG is fixed in the paper). H is then the track bottom's height above the
+    ground the rear arms stand on: once H > H_EST the tracks clear the step.
+    """
+    h1 = abs(float(np.mean(rear_tips_c[:, 2])))
+    return h1 - h2
+
+
+def travel(s: float, track_speed: float, pitch: float, dt: float) -> float:
+    """S += L cos(R_P), L = track_speed * dt (m) (the travel past the edge, no slip)."""
+    return s + track_speed * dt * math.cos(pitch)
+
+
+def flipper_rule(a_prev: float, tau_prev: float, t0: float, d_a: float, a0: float, d_b: float) -> tuple[float, str]:
+    """Front-flipper angle command from the last angle and torque (cases 1-3); returns (A, case).
+
+    Case 3 (at the limit A0) comes first: the limit means an obstacle ahead.
+    """
+    if a_prev > a0 - 1e-3:
+        return a_prev - d_b, "limit"
+    if abs(tau_prev) < t0:
+        return a_prev, "low"
+    return a_prev - d_a * math.copysign(1.0, tau_prev), "high"
+
+
+def arm_stop_case(p_actual: np.ndarray, p_target: np.ndarray, d_c: float, d_d: float) -> str:
+    """Where a transferred tip stopped relative to its target (arm stop cases 1-3, else reached)."""
+    dx = abs(p_actual[0] - p_target[0])
+    dz = p_actual[2] - p_target[2]
+    if dx > d_c:
+        return "blocked"   # case 1: an obstacle between the arm and the target
+    if dz > d_d:
+        return "on-top"    # case 2: stopped on top of an obstacle
+    if dz < -d_d:
+        return "pit"       # case 3: stopped in a pit
+    return "reached"
+
+
+def contact_detected(tau: float, tau_ref: float, threshold: float) -> bool:
+    """Elbow-torque contact signal: the torque rises by ``threshold`` above its free-motion value.
+
+    Our elbow torque > 0 turns the forearm down; a tip pressed up by the ground pushes it up, so
+    the servo's torque jumps in the down direction (the paper's "torque reaches the setting value").
+    """
+    return tau - tau_ref > threshold
+
+
+def transfer_step(phase: int, q: np.ndarray, cmd: np.ndarray, target: np.ndarray, ab: float,
+                  d_swing: float, d_lift: float, k: float) -> tuple[int, np.ndarray]:
+    """One tick of the three-phase arm transfer (eqs. 19-21); returns (phase, new command).
+
+    Phase 1 lifts boom and elbow until the boom reaches A_B; phase 2 swings to the target swing;
+    phase 3 lowers boom and elbow toward (and past) the target until contact (checked by the
+    caller). Phase 4 = the joints hit their lower bound without contact (a deep pit).
+    """
+    c = cmd.copy()
+    if phase == 1:
+        c[1] = q[1] + k * (ab - q[1]) - 0.02
+        c[2] = max(c[2] - d_lift, ELBOW_LIFT)
+        if q[1] <= ab + 0.03 and q[2] <= ELBOW_LIFT + 0.05:
+            return 2, c
+        return 1, c
+    if phase == 2:
+        c[0] = c[0] + float(np.clip(target[0] - c[0], -d_swing, d_swing))
+        # arm stop case 1: the swing is blocked (it lags its command): lower it where it is
+        if abs(target[0] - q[0]) < 0.03 or abs(c[0] - q[0]) > 0.25:
+            c[0] = q[0]
+            return 3, c
+        return 2, c
+    if phase == 3:
+        c[1] = c[1] + d_lift * (1.0 if c[1] < target[1] + 0.5 else 0.0)
+        c[2] = c[2] + float(np.clip(target[2] - c[2], -d_lift, d_lift))
+        if c[1] >= target[1] + 0.5 - 1e-9:
+            return 4, c
+        return 3, c
+    return phase, c
+
+
+def climb_rule(boom: float, flip: float, h: float, h_est: float, s: float, l: float,
+               d_e: float, d_f: float, boom_rest: float) -> tuple[float, float, bool]:
+    """Eqs. 28-29: (boom, flipper) commands and whether the release has begun.
+
+    While H < H_EST or S < L: booms down (+dE, our sign) and flippers down (-dF).
+    Then: booms back up (-dE) while above their rest angle, flippers up (+dF) while below 0.
+    """
+    if h < h_est or s < l:
+        return boom + d_e, flip - d_f, False
+    nb = boom - d_e if boom > boom_rest else boom
+    nf = flip + d_f if flip < 0.0 else flip
+    return nb, min(nf, 0.0) if flip < 0.0 else nf, True
+
+
+# ---------------------------------------------------------------------------- command
+@dataclass
+class Command:
+    """Track speeds (m/s, left/right), flipper angle targets (4,) and arm joint targets (4, 3) (rad)."""
+
+    track: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    flip: np.ndarray = field(default_factory=lambda: np.zeros(4))
+    arm: np.ndarray = field(default_factory=lambda: np.zeros((4, 3)))
+    mode: int = 0  # controller state code (logged)
+    moving_arm: int = -1  # index of the arm in transfer, -1 none (logged)
+
+
+# ---------------------------------------------------------------------------- controller
+WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
+
+
+class CLMController:
+    """The CLM state machine: ``obs -> Command``."""
+
+    def __init__(self, cfg: CLMConfig, robot: RobotConfig, dt: float = 0.02):
+        self.cfg, self.robot, self.dt = cfg, robot, dt
+        self.cmd = Command()
+        self.targets = {k: self._target(k) for k in ARMS}
+        self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
+        self.tau_ref = np.zeros(4)
+        self.t3 = np.zeros(4)
+        self.h = 0.0
+        self.contact = np.zeros(4, bool)
+        self.tip_c = np.zeros((4, 3))
+        self.queue: list[str] = list(ARMS)  # place all four arms first (init)
+        self.next_gait = 0
+        self.pause_until = 0.0
+        self.state = INIT
+        self.s = 0.0
+        self.h_est = 0.0
+        self.last_case = FLAT
+        self.started = False
+        self.events: list[tuple[float, str]] = []
+
+    def _target(self, k: str) -> np.ndarray:
+        front, rear = self.cfg.targets
+        x, y, z = front if k[1] == "F" else rear
+        return np.array([x, y if k[0] == "L" else -y, z])
+
+    # ---------------------------------------------------------------- helpers
+    def _start(self, obs) -> None:
+        c = self.cmd
+        c.arm[:] = obs.q_arm
+        c.flip[:] = [self.cfg.flipper_start, self.cfg.flipper_start, 0.0, 0.0]
+        self.started = True
+
+    def _lead(self, obs) -> None:
+        m = self.cfg.max_lead
+        self.cmd.arm[:] = np.clip(self.cmd.arm, obs.q_arm - m, obs.q_arm + m)
+
+    def _transfer(self, obs) -> int:
+        """Advance the arm in transfer (if any); returns its index or -1."""
+        cfg = self.cfg
+        moving = [k for k in ARMS if self.phase[k]]
+        if not moving:
+            if obs.t < self.pause_until:
+                return -1
+            if self.queue:
+                k = self.queue.pop(0)
+            elif self.state == WALK:
+                k = GAIT_ORDER[self.next_gait % 4]
+                self.next_gait += 1
+            else:
+                return -1
+            self.phase[k] = 1
+            self.contact[ARM_INDEX[k]] = False
+            moving = [k]
+        k = moving[0]
+        i = ARM_INDEX[k]
+        q = obs.q_arm[i]
+        tgt = ak.ik(self.targets[k], self.robot, k)
+        ph = self.phase[k]
+        if ph == 3:
+            self.t3[i] += self.dt
+            stalled = self.cmd.arm[i, 1] - q[1] > cfg.stall_lag  # encoder: the boom stopped following
+            if self.t3[i] > 0.2 and (contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque) or stalled):
+                self._land(obs, k, i)
+                return i
+        new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
+        if ph == 2 and new_ph == 3:
+            self.tau_ref[i] = obs.tau_elbow[i]
+            self.t3[i] = 0.0
+        if ph == 3:
+            # the free-motion reference follows the slow changes (gravity, servo lag) while lowering
+            if self.t3[i] <= 0.2:
+                self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
+        self.cmd.arm[i] = c
+        if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
+            self.events.append((obs.t, f"{k}: no ground within reach (pit)"))
+            self.phase[k] = 0
+            self.pause_until = obs.t + cfg.gait_pause
+        else:
+            self.phase[k] = new_ph
+        return i
+
+    def _land(self, obs, k: str, i: int) -> None:
+        cfg = self.cfg
+        self.phase[k] = 0
+        self.contact[i] = True
+        self.cmd.arm[i] = obs.q_arm[i]
+        self.cmd.arm[i, 1] += cfg.press
+        self.tau_ref[i] = obs.tau_elbow[i]
+        p = ak.fk(obs.q_arm[i], self.robot, k)
+        case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)
+        self.events.append((obs.t, f"{k} landed: {case}"))
+        self.pause_until = obs.t + cfg.gait_pause
+
+    # ---------------------------------------------------------------- main
+    def __call__(self, obs) -> Command:
+        cfg, c = self.cfg, self.cmd
+        if not self.started:
+            self._start(obs)
+        self.tip_c = ak.tips_level(obs.q_arm, obs.roll, obs.pitch, self.robot)
+        z = self.tip_c[:, 2]
+        if self.state == INIT:
+            c.track[:] = 0.0
+            i = self._transfer(obs)
+            if i < 0 and not self.queue and not any(self.phase.values()):
+                self.state = WALK
+            c.mode, c.moving_arm = self.state, i
+            self._lead(obs)
+            return c
+        if self.state == WALK:
+            c.track[:] = cfg.track_speed
+            for f in (0, 1):
+                c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)
+            # a supporting arm pushed hard (collision): it is transferred next
+            for i, k in enumerate(ARMS):
+                if (self.phase[k] == 0 and self.contact[i] and k not in self.queue
+                        and contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.hit_torque)):
+                    self.queue.insert(0, k)
+                    self.events.append((obs.t, f"{k}: collision (elbow torque)"))
+            i = self._transfer(obs)
+            all_down = self.contact.all() and not any(self.phase.values())
+            self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
+            at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
+            if all_down and self.last_case == UP and at_limit:
+                self.h_est = step_height(z)
+                self.state, self.s = CLIMB, 0.0
+                self.events.append((obs.t, f"step detected: H_EST = {self.h_est:.3f} m; climbing"))
+            c.mode, c.moving_arm = self.state, i
+            self._lead(obs)
+            return c
+        # CLIMB / RELEASE: eqs. 28-29 on all booms and all flippers
+        c.track[:] = cfg.climb_track_speed
+        self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
+        h = cog_height(self.tip_c[2:], cfg.h2)
+        self.h = h
+        released = False
+        lifting = h < self.h_est or self.s < cfg.climb_distance
+        for i in range(4):
+            nb, _, released = climb_rule(c.arm[i, 1], 0.0, h, self.h_est, self.s, cfg.climb_distance,
+                                         cfg.d_e, cfg.d_f, cfg.release_boom)
+            # our addition: a front (rear) boom holds while the nose is too high (low)
+            front = i < 2
+            if lifting and ((front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap)
+                            or h > self.h_est + cfg.lift_margin):
+                nb = c.arm[i, 1]
+            c.arm[i, 1] = nb
+        for f in range(4):
+            _, nf, released = climb_rule(0.0, c.flip[f], h, self.h_est, self.s, cfg.climb_distance,
+                                         cfg.d_e, cfg.d_f, cfg.release_boom)
+            if lifting and f < 2 and h < self.h_est:
+                nf = c.flip[f]  # front flippers stay raised against the riser until the tracks clear it
+            c.flip[f] = max(nf, cfg.flip_min)
+        if released and self.state == CLIMB:
+            self.state = RELEASE
+            self.events.append((obs.t, f"released: H = {h:.3f} m, S = {self.s:.3f} m"))
+        if self.state == RELEASE and all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
+            # back to walking on the top: arms re-placed, front flippers to their cruise angle
+            self.state = WALK
+            self.queue = list(GAIT_ORDER)
+            c.flip[:2] = cfg.flipper_start
+            self.contact[:] = False
+            self.events.append((obs.t, "climb done, walking"))
+        c.mode, c.moving_arm = self.state, -1
+        self._lead(obs)
+        return c

@@ -1,0 +1,79 @@
+"""OCTOPUS scenarios: the paper's three step tasks, the rough-road block, a step-height sweep."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Sequence
+
+from terrabench.benchmark.trial import TrialSpec
+from terrabench.systems.base import MethodInfo, System, split_ids
+from terrabench.systems.octopus.ccm import CCMController
+from terrabench.systems.octopus.clm import CLMController
+from terrabench.systems.octopus.config import OctopusConfig
+from terrabench.systems.octopus.task import OctopusTask
+
+SCENARIO = "octopus/steps-v1"
+SWEEP_SCENARIO = "octopus/sweep-v1"
+STEP_TASKS = ("step-400", "terrace2-front", "terrace2-side", "block-500")
+SWEEP_HEIGHTS_MM = tuple(range(100, 551, 50))
+SWEEP_TASKS = tuple(f"sweep-h{h}" for h in SWEEP_HEIGHTS_MM)
+METHODS = {
+    "clm": MethodInfo("clm", "compound locomotion mode: arms walk and lift, flippers crawl (Chen et al.)", ("arms",)),
+    "ccm": MethodInfo("ccm", "crawler-only mode: automated flipper step climbing (Nagatani/Okada stand-in)", ("crawler",)),
+}
+
+
+class OctopusSystem(System):
+    """The OCTOPUS arm-and-flipper crawler on steps, terraces and a block."""
+
+    id = "octopus"
+    summary = "OCTOPUS four-arm four-flipper crawler climbing a 400 mm step without vision (Chen, Kamezaki et al.)"
+    config_cls = OctopusConfig
+    groups = {"steps": "the paper's tasks: step-400, terrace2-front, terrace2-side, block-500",
+              "sweep": "step heights 100-550 mm in 50 mm (sweep-h100 ... sweep-h550)"}
+    default_group = "steps"
+    timeout_key = "protocol.timeout"
+    headline_metrics = ("max_pitch", "max_roll", "min_margin", "progress", "sim_time")
+    perf_instances = ("step-400", "block-500")
+
+    def methods(self) -> dict[str, MethodInfo]:
+        return dict(METHODS)
+
+    def default_methods(self) -> list[str]:
+        return ["clm", "ccm"]
+
+    def instances(self, group: str | None) -> list[str]:
+        if group == "steps":
+            return list(STEP_TASKS)
+        if group == "sweep":
+            return list(SWEEP_TASKS)
+        return list(STEP_TASKS) + list(SWEEP_TASKS)
+
+    def select_instances(self, ids: Sequence[str]) -> list[str]:
+        return split_ids(ids, "octopus instance(s)", self.instances(None)) or []
+
+    def scenario(self, method: str, instance: str) -> str:
+        return SWEEP_SCENARIO if instance.startswith("sweep-") else SCENARIO
+
+    def make_task(self, spec: TrialSpec, cfg: OctopusConfig) -> OctopusTask:
+        return OctopusTask(spec.method, spec.instance, cfg, spec.seed)
+
+    def make_controller(self, spec: TrialSpec, cfg: OctopusConfig, task: OctopusTask):
+        if spec.method == "clm":
+            return CLMController(cfg.clm, cfg.robot, cfg.protocol.control_period)
+        if spec.method == "ccm":
+            return CCMController(cfg.ccm)
+        raise ValueError(f"unknown octopus method {spec.method!r}; valid: {', '.join(METHODS)}")
+
+    def summarize(self, rows: list[dict[str, Any]]):
+        from terrabench.systems.octopus.report import summary_table
+
+        return summary_table(rows)
+
+    def report(self, store, out_dir: Path) -> Path:
+        from terrabench.systems.octopus.report import write_report
+
+        return write_report(store, Path(out_dir))
+
+
+SYSTEM = OctopusSystem()

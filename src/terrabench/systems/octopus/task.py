@@ -1,0 +1,247 @@
+"""One OCTOPUS episode as a hallway :class:`~terrabench.systems.base.Task`.
+
+The scene is a floor plus box pieces from :mod:`terrabench.terrain.pieces`; the robot starts
+behind the first edge. Ground truth used only here (never by controllers): progress along the
+approach axis, the stability margin from MuJoCo contacts, the stop checks.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from terrabench.sim.episode import Timing
+from terrabench.systems.base import TaskBase
+from terrabench.systems.octopus.clm import Command
+from terrabench.systems.octopus.config import OctopusConfig
+from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
+from terrabench.systems.octopus.sensing import Observation, roll_pitch
+from terrabench.systems.octopus.stability import stability_margin
+from terrabench.terrain import pieces
+from terrabench.terrain.mjcf import GROUND_BIT
+
+COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "tip_contact",
+           "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR")
+
+
+@dataclass(frozen=True)
+class Layout:
+    """An instance's terrain and goal.
+
+    Attributes:
+        kind: ``step`` | ``terrace`` | ``block``.
+        boxes: the terrain pieces.
+        edge: along-axis position of the last edge to get past (m) (block: the block's far end).
+        top: height of the top (m) (block: 0).
+        axis_yaw: yaw of the approach axis (rad).
+        start: chassis start (x, y) (m) and start_yaw (rad).
+    """
+
+    kind: str
+    boxes: tuple
+    edge: float
+    top: float
+    axis_yaw: float
+    start: tuple[float, float]
+    start_yaw: float
+
+
+def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
+    """The terrain pieces and start of an instance id (``step-400``, ``terrace2-front``, ...)."""
+    sc = cfg.scene
+    rng = np.random.default_rng(seed)
+    off, dyaw = pieces.jitter(rng, sc.jitter_offset, sc.jitter_yaw_deg) if seed else (0.0, 0.0)
+    d = sc.start_distance
+    if instance == "step-400" or instance.startswith("sweep-h"):
+        h = sc.step_height if instance == "step-400" else int(instance[len("sweep-h"):]) / 1000.0
+        if not 0 < h <= sc.max_step_height:
+            raise ValueError(f"step height {h} m outside (0, {sc.max_step_height}] m")
+        boxes = pieces.step(h, edge_x=0.0)
+        return Layout("step", boxes, 0.0, h, 0.0, (-d, off), dyaw)
+    if instance in ("terrace2-front", "terrace2-side"):
+        yaw = 0.0 if instance.endswith("front") else math.radians(sc.side_yaw_deg)
+        boxes = pieces.terraces(sc.terrace_heights, (sc.terrace_tread,), edge_x=0.0, yaw=yaw)
+        top = float(sum(sc.terrace_heights))
+        # the robot starts on the approach axis d behind the first edge, turned by yaw
+        sx, sy = -d * math.cos(yaw) - off * math.sin(yaw), -d * math.sin(yaw) + off * math.cos(yaw)
+        return Layout("terrace", boxes, sc.terrace_tread, top, yaw, (sx, sy), yaw + dyaw)
+    if instance == "block-500":
+        r = cfg.robot
+        y_edge = -(r.flipper_y + r.flipper_w / 2) - sc.block_gap
+        boxes = pieces.block(sc.block_height, sc.block_length, sc.block_width, x0=0.0,
+                             y_center=y_edge - sc.block_width / 2)
+        return Layout("block", boxes, sc.block_length, 0.0, 0.0, (-d, off), dyaw)
+    raise ValueError(f"unknown octopus instance {instance!r}")
+
+
+class OctopusTask(TaskBase):
+    """The robot driven by one controller on one instance's terrain."""
+
+    columns = COLUMNS
+    mutable_model_fields = ("geom_surfacevel",)
+
+    def __init__(self, method: str, instance: str, cfg: OctopusConfig, seed: int = 0):
+        self.method, self.instance, self.cfg, self.seed = method, instance, cfg, seed
+        pr = cfg.protocol
+        self.physics = cfg.physics
+        self.timing = Timing(pr.control_period, pr.timeout, pr.check_period, pr.log_period)
+        self.layout = layout(instance, cfg, seed)
+
+    # ------------------------------------------------------------------ scene
+    def build(self, spec: mujoco.MjSpec) -> None:
+        lay, r = self.layout, self.cfg.robot
+        spec.modelname = f"octopus_{self.instance}"
+        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1],
+                                friction=[self.cfg.scene.friction, 0.005, 0.0001], contype=GROUND_BIT,
+                                conaffinity=0, rgba=[0.5, 0.5, 0.5, 1])
+        pieces.add_boxes(spec, lay.boxes, friction=self.cfg.scene.friction)
+        spec.worldbody.add_light(pos=[0, 0, 4], dir=[0, 0, -1])
+        add_robot(spec, (lay.start[0], lay.start[1], r.pulley_r + 0.01), lay.start_yaw, r)
+        # start pose of the arms: out to the sides, tips just above the ground
+        self._q0 = {Names.arm_joint(k, "swing"): (0.9 if k[1] == "F" else -0.6) for k in ARMS}
+        self._q0.update({Names.arm_joint(k, "boom"): -0.3 for k in ARMS})
+        self._q0.update({Names.arm_joint(k, "elbow"): 1.0 for k in ARMS})
+
+    def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Observation:
+        self.model, self.data = model, data
+        for j, q in self._q0.items():
+            data.qpos[model.joint(j).qposadr[0]] = q
+        mujoco.mj_forward(model, data)
+        self.act = np.array([model.actuator(Names.act(j)).id for j in actuated_joints()])
+        data.ctrl[self.act] = [data.qpos[model.joint(j).qposadr[0]] for j in actuated_joints()]
+        self.chassis = model.body(Names.CHASSIS).id
+        r = self.cfg.robot
+        # moving surfaces: (geom id, side index, kind 0 = linear run / 1 = pulley of radius, sign)
+        surf = []
+        for si, side in enumerate(Names.SIDES):
+            for nm in Names.track_geoms(side):
+                surf.append((model.geom(nm).id, si, nm.endswith("_run"), 1.0))
+        for k in FLIPPERS:
+            sign = 1.0 if k[1] == "F" else -1.0  # rear flippers' frames are turned about z
+            for nm in Names.flipper_geoms(k):
+                surf.append((model.geom(nm).id, 0 if k[0] == "L" else 1, nm.endswith("_run"), sign))
+        self.surf_id = np.array([s[0] for s in surf])
+        self.surf_side = np.array([s[1] for s in surf])
+        self.surf_lin = np.array([s[2] for s in surf])
+        self.surf_sign = np.array([s[3] for s in surf])
+        self.surf_r = model.geom_size[self.surf_id, 0]
+        self.ground = np.zeros(model.ngeom, bool)
+        for g in range(model.ngeom):
+            if model.geom_bodyid[g] == 0:
+                self.ground[g] = True
+        self.tip_geoms = np.array([model.geom(Names.tip(k)).id for k in ARMS])
+        self.robot_geom = ~self.ground
+        self.obs = Observation(model, data)
+        pr = self.cfg.protocol
+        self._best, self._best_t = -1e9, 0.0
+        self._hold = 0.0
+        self._hold_n = int(round(pr.success_hold / pr.control_period))
+        self._on_top_n = 0
+        c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
+        self._axis = np.array([c, s])
+        self._perp = np.array([-s, c])
+        self._margin = float("nan")
+        self.apply_tracks(np.zeros(2))
+        return self.obs
+
+    # ------------------------------------------------------------------ loop
+    def observe(self) -> Observation:
+        return self.obs.refresh()
+
+    def progress(self) -> tuple[float, float]:
+        p = self.data.xpos[self.chassis, :2]
+        return float(p @ self._axis), float(p @ self._perp)
+
+    def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
+        pr, lay = self.cfg.protocol, self.layout
+        roll, pitch = roll_pitch(self.data.xquat[self.chassis])
+        if abs(roll) > pr.turn_over or abs(pitch) > pr.turn_over:
+            return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {pr.turn_over} rad"
+        s, _ = self.progress()
+        t = self.data.time
+        if s > self._best + pr.stuck_progress:
+            self._best, self._best_t = s, t
+        elif t - self._best_t > pr.stuck_time:
+            return "stuck", f"no {pr.stuck_progress} m of progress for {pr.stuck_time} s (at s = {s:.2f} m)"
+        z = float(self.data.xpos[self.chassis, 2])
+        stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
+        if lay.kind == "block":
+            past = s > lay.edge + pr.block_past
+        else:
+            past = s > lay.edge + pr.success_past and z > lay.top + self.cfg.robot.pulley_r - 0.05
+        self._on_top_n = self._on_top_n + 1 if (past and stable) else 0
+        if self._on_top_n >= self._hold_n:
+            where = "past the block" if lay.kind == "block" else f"on the {lay.top:.2f} m top"
+            return "success", f"{where}, stable for {pr.success_hold} s"
+        return None
+
+    def apply_tracks(self, v: np.ndarray) -> None:
+        sv = self.model.geom_surfacevel
+        speed = v[self.surf_side] * self.surf_sign
+        lin = self.surf_lin
+        ids = self.surf_id
+        sv[ids[lin], 0] = -speed[lin]
+        sv[ids[~lin], 5] = speed[~lin] / self.surf_r[~lin]
+
+    def apply(self, cmd: Command) -> None:
+        self.apply_tracks(cmd.track)
+        self.data.ctrl[self.act[:4]] = cmd.flip
+        self.data.ctrl[self.act[4:]] = cmd.arm.ravel()
+
+    def margin(self) -> float:
+        """Static stability margin (m) from the current contacts (ground truth, evaluation only)."""
+        d = self.data
+        n = d.ncon
+        if n == 0:
+            return float("nan")
+        geom = d.contact.geom[:n]
+        g = self.ground
+        sel = g[geom[:, 0]] ^ g[geom[:, 1]]
+        if sel.sum() == 0:
+            return float("nan")
+        pts = d.contact.pos[:n][sel, :2]
+        cog = d.subtree_com[self.chassis, :2]
+        return stability_margin(pts, cog)
+
+    def tip_contacts(self) -> int:
+        d = self.data
+        n = d.ncon
+        bits = 0
+        if n:
+            geom = d.contact.geom[:n]
+            for i, tg in enumerate(self.tip_geoms):
+                if ((geom[:, 0] == tg) | (geom[:, 1] == tg)).any():
+                    bits |= 1 << i
+        return bits
+
+    def row(self, obs: Observation, cmd: Command | None) -> tuple[float, ...]:
+        s, lat = self.progress()
+        z = float(self.data.xpos[self.chassis, 2])
+        m = self.margin()
+        te = obs.tau_elbow
+        mode = float(cmd.mode) if cmd is not None else np.nan
+        mov = float(cmd.moving_arm) if cmd is not None else np.nan
+        return (s, lat, z, obs.roll, obs.pitch, m, mode, mov, float(self.tip_contacts()),
+                float(obs.q_flip[:2].mean()), float(obs.q_flip[2:].mean()), te[0], te[1], te[2], te[3])
+
+    def power(self, obs: Observation) -> float:
+        d = self.data
+        return float(np.abs(d.actuator_force * d.actuator_velocity).sum())
+
+    def metrics(self, log) -> dict[str, float]:
+        roll, pitch, margin, s = log.column("roll"), log.column("pitch"), log.column("margin"), log.column("s")
+        ip, ir = int(np.nanargmax(np.abs(pitch))), int(np.nanargmax(np.abs(roll)))
+        # skip the first second: the robot settles and places its arms
+        k0 = min(int(round(1.0 / log.period)), len(margin) - 1)
+        mm = margin[k0:]
+        return {
+            "max_pitch": float(pitch[ip]), "max_roll": float(roll[ir]),
+            "min_margin": float(np.nanmin(mm)) if np.isfinite(mm).any() else float("nan"),
+            "progress": float(s[-1] - s[0]), "energy": log.energy,
+        }
+
+    def info(self) -> dict:
+        return {"kind": self.layout.kind, "edge": self.layout.edge, "top": self.layout.top}

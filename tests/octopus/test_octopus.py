@@ -1,0 +1,132 @@
+"""OCTOPUS: pinned model, sensing boundary, CLM rules, stability margin, terrain pieces, trials."""
+
+import numpy as np
+import pytest
+
+from terrabench.benchmark.trial import TrialSpec
+from terrabench.sim.scene import compile_scene
+from terrabench.systems.octopus import arm_kinematics as ak
+from terrabench.systems.octopus import clm
+from terrabench.systems.octopus.robot import RobotConfig
+from terrabench.systems.octopus.scenarios import SYSTEM
+from terrabench.systems.octopus.sensing import FIELDS, Observation
+from terrabench.systems.octopus.stability import stability_margin
+from terrabench.terrain import pieces
+
+
+def _task(instance="step-400", method="clm"):
+    cfg = SYSTEM.resolve_config({})
+    return SYSTEM.make_task(TrialSpec("octopus", "x", method, instance, 0, {}), cfg)
+
+
+def test_model_counts():
+    task = _task()
+    m, _ = compile_scene(task)
+    assert (m.nbody, m.njnt, m.nu, m.nsensor) == (26, 25, 16, 25)
+
+
+def test_sensing_boundary():
+    task = _task()
+    obs = task.bind(*compile_scene(task))
+    assert isinstance(obs, Observation)
+    names = set(Observation.__slots__) - {n for n in Observation.__slots__ if n.startswith("_")}
+    assert names == set(FIELDS)
+    for bad in ("pos", "x", "y", "yaw", "contact", "terrain", "qpos", "xpos"):
+        assert bad not in names
+
+
+def test_terrain_case_and_height():
+    s = (0.05, 0.45, 0.45)
+    assert clm.terrain_case(np.array([0.0, 0.01, 0.0, -0.01]), s) == clm.FLAT
+    assert clm.terrain_case(np.array([0.4, 0.4, 0.0, 0.0]), s) == clm.UP
+    assert clm.terrain_case(np.array([-0.2, -0.2, 0.0, 0.0]), s) == clm.DOWN
+    assert clm.terrain_case(np.array([0.4, 0.0, 0.0, 0.0]), s) == clm.UNDETECTABLE
+    assert clm.step_height(np.array([0.4, 0.4, 0.0, 0.0])) == pytest.approx(0.4)
+
+
+def test_flipper_rule():
+    assert clm.flipper_rule(0.5, 10.0, 40, 0.02, 1.48, 0.02) == (0.5, "low")
+    assert clm.flipper_rule(0.5, -60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.52), "high")
+    assert clm.flipper_rule(0.5, 60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.48), "high")
+    assert clm.flipper_rule(1.49, 0.0, 40, 0.02, 1.48, 0.02)[1] == "limit"
+
+
+def test_cog_height_travel_and_climb_rule():
+    rear = np.array([[-0.4, 0.5, -0.55], [-0.4, -0.5, -0.55]])
+    assert clm.cog_height(rear, 0.05) == pytest.approx(0.5)
+    assert clm.travel(0.0, 0.1, 0.0, 0.02) == pytest.approx(0.002)
+    assert clm.travel(0.0, 0.1, np.pi / 3, 0.02) == pytest.approx(0.001)
+    b, f, rel = clm.climb_rule(0.1, 0.0, 0.2, 0.4, 0.0, 0.3, 0.05, 0.05, 0.0)
+    assert (b, f, rel) == (pytest.approx(0.15), pytest.approx(-0.05), False)
+    b, f, rel = clm.climb_rule(0.1, -0.2, 0.5, 0.4, 0.35, 0.3, 0.05, 0.05, 0.0)
+    assert (b, f, rel) == (pytest.approx(0.05), pytest.approx(-0.15), True)
+
+
+def test_arm_stop_cases_and_contact():
+    t = np.array([0.75, 0.55, -0.05])
+    assert clm.arm_stop_case(np.array([0.5, 0.55, -0.05]), t, 0.1, 0.08) == "blocked"
+    assert clm.arm_stop_case(np.array([0.74, 0.55, 0.35]), t, 0.1, 0.08) == "on-top"
+    assert clm.arm_stop_case(np.array([0.74, 0.55, -0.3]), t, 0.1, 0.08) == "pit"
+    assert clm.arm_stop_case(np.array([0.74, 0.55, -0.04]), t, 0.1, 0.08) == "reached"
+    assert clm.contact_detected(30.0, 5.0, 20.0) and not clm.contact_detected(10.0, 5.0, 20.0)
+
+
+def test_transfer_phases():
+    q = np.array([0.0, 0.0, 1.0])
+    ph, c = clm.transfer_step(1, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    assert ph == 1 and c[1] < 0 and c[2] < 1.0          # lifting: boom up, elbow straightens
+    ph, c = clm.transfer_step(1, np.array([0.0, -0.6, 0.3]), c, np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    assert ph == 2
+    ph, c = clm.transfer_step(2, np.array([0.0, -0.6, 0.3]), np.array([0.0, -0.6, 0.3]), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    assert ph == 2 and c[0] == pytest.approx(0.04)       # swinging forward
+
+
+def test_ik_inverts_fk():
+    cfg = RobotConfig()
+    for k in ("LF", "RF", "LR", "RR"):
+        p = np.array([0.7 if k[1] == "F" else -0.45, 0.55 if k[0] == "L" else -0.55, -0.05])
+        assert np.allclose(ak.fk(ak.ik(p, cfg, k), cfg, k), p, atol=1e-6)
+
+
+def test_stability_margin():
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    assert stability_margin(sq, [0.5, 0.5]) == pytest.approx(0.5)
+    assert stability_margin(sq, [0.2, 0.5]) == pytest.approx(0.2)
+    assert stability_margin(sq, [1.0, 0.5]) == pytest.approx(0.0)
+    assert stability_margin(sq, [1.3, 0.5]) == pytest.approx(-0.3)
+    tri = np.array([[0, 0], [2, 0], [1, 2], [1, 0.5]], float)  # interior point ignored
+    assert stability_margin(tri, [1, 0.1]) == pytest.approx(0.1)
+
+
+def test_pieces_pure():
+    a = pieces.jitter(np.random.default_rng(3), 0.03, 3.0)
+    b = pieces.jitter(np.random.default_rng(3), 0.03, 3.0)
+    assert a == b
+    t1 = pieces.terraces((0.2, 0.2), (0.45,), yaw=0.3)
+    assert t1 == pieces.terraces((0.2, 0.2), (0.45,), yaw=0.3)
+    h = pieces.height_grid(pieces.step(0.4), np.array([-0.5, 0.5]), np.array([0.0]))
+    assert h[0, 0] == 0.0 and h[1, 0] == pytest.approx(0.4)
+    with pytest.raises(ValueError):
+        pieces.step(0.0)
+
+
+@pytest.mark.parametrize("method", ["clm", "ccm"])
+def test_short_trial_deterministic(method):
+    spec = SYSTEM.plan(methods=[method], instances=["step-400"], seeds=1, overrides={"protocol.timeout": 3.0})[0]
+    r1, r2 = SYSTEM.run_trial(spec), SYSTEM.run_trial(spec)
+    assert r1.status == r2.status == "timeout"
+    assert r1.metrics == r2.metrics
+    assert np.array_equal(r1.timeseries["s"], r2.timeseries["s"])
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="method"):
+        SYSTEM.plan(methods=["walk"])
+    with pytest.raises(ValueError, match="instance"):
+        SYSTEM.plan(instances=["step-999"])
+    with pytest.raises(ValueError, match="step_height"):
+        SYSTEM.plan(overrides={"scene.step_height": 0.0})
+    with pytest.raises(ValueError, match="step_height"):
+        SYSTEM.plan(overrides={"scene.step_height": 2.0})
+    with pytest.raises(ValueError, match="seeds"):
+        SYSTEM.plan(seeds=0)

@@ -25,9 +25,13 @@ def to_dict(cfg: Any) -> dict[str, Any]:
         if dataclasses.is_dataclass(v):
             v = to_dict(v)
         elif isinstance(v, tuple):
-            v = list(v)
+            v = _listify(v)
         out[f.name] = v
     return out
+
+
+def _listify(v: Any) -> Any:
+    return [_listify(x) for x in v] if isinstance(v, (tuple, list)) else v
 
 
 def from_dict(cls: type[T], data: Mapping[str, Any]) -> T:

@@ -5,8 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Sequence
 
+from terrabench.benchmark.plan import split_ids
 from terrabench.benchmark.trial import TrialSpec
-from terrabench.systems.base import MethodInfo, System, split_ids
+from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.octopus.ccm import CCMController
 from terrabench.systems.octopus.clm import CLMController
 from terrabench.systems.octopus.config import OctopusConfig
@@ -35,6 +36,7 @@ class OctopusSystem(System):
     timeout_key = "protocol.timeout"
     headline_metrics = ("max_pitch", "max_roll", "min_margin", "progress", "sim_time")
     perf_instances = ("step-400", "block-500")
+    smoke = {"methods": ["clm"], "instances": ["step-400"], "overrides": {"protocol.timeout": 2.0}}
 
     def methods(self) -> dict[str, MethodInfo]:
         return dict(METHODS)

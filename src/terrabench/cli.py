@@ -133,14 +133,14 @@ def run(
     if not quiet:
         console.print(_trial_table(rows, sysobj))
     console.print(sysobj.summarize(rows))
-    console.print(
-        f"{summary.requested} trials requested, {summary.skipped} already stored, {summary.finished} run "
-        f"in {summary.wall_time:.1f} s; statuses {summary.statuses or '{}'}; store: {store}",
-        highlight=False,
-    )
+    console.print(f"{summary.describe()}; store: {store}", highlight=False)
     if summary.interrupted:
         err_console.print("[yellow]interrupted:[/] finished trials are stored; run the same command to resume.")
         raise typer.Exit(130)
+    if summary.faults:
+        err_console.print(f"[yellow]{summary.faults} trial(s) ended in error[/] (a fault, not physics; see the "
+                          "reasons above); run the same command to retry them.")
+        raise typer.Exit(1)
 
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
@@ -169,8 +169,10 @@ def _run_with_progress(run_trials, specs, store, backend, workers, address):
                   f"{result.status} ({result.wall_time:.1f} s)", flush=True)
 
     with progress:
+        # in_process=False: even --workers 1 runs trials in a child process, so a trial that
+        # crashes the interpreter or hangs costs only itself
         return run_trials(specs, store, backend=backend, workers=workers, address=address,
-                          on_result=on_result, on_start=on_start)
+                          on_result=on_result, on_start=on_start, in_process=False)
 
 def _trial_table(rows, sysobj):
     from rich.table import Table

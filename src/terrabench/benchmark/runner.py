@@ -155,15 +155,17 @@ def sim_timeout(spec: TrialSpec) -> float | None:
     """The simulated time limit (s) a spec's config sets, or ``None`` if it has none.
 
     Reads the system's ``timeout_key`` (``"protocol.timeout"`` for mrs-cwc) from
-    ``spec.config``; an unknown system, a missing key or a non-positive value give ``None``.
+    ``spec.config``; an unknown system, a system without a time limit, a missing key or a
+    non-positive value give ``None``.
     """
-    key = "protocol.timeout"
-    try:
-        from terrabench.catalog import system
+    from terrabench.catalog import system
 
-        key = getattr(system(spec.system), "timeout_key", None) or key
-    except Exception:
-        pass
+    try:
+        key = system(spec.system).timeout_key
+    except ValueError:  # a system this process does not know
+        return None
+    if key is None:
+        return None
     node: Any = spec.config
     for part in key.split("."):
         if not isinstance(node, dict) or part not in node:

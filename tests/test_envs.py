@@ -23,7 +23,7 @@ def make(**kw):
 
 def test_ids_come_from_the_systems_and_registration_is_idempotent():
     assert ENV_ID in gymnasium.registry
-    assert terrabench.envs.register_envs() == list(SYSTEM.env_ids)
+    assert set(SYSTEM.env_ids) <= set(terrabench.envs.register_envs())
     assert gymnasium.registry[ENV_ID].kwargs == {"system": "mrs-cwc"}
     assert isinstance(SYSTEM.env_adapter(), EnvAdapter)
 

@@ -36,6 +36,7 @@ class OctopusSystem(System):
     timeout_key = "protocol.timeout"
     headline_metrics = ("max_pitch", "max_roll", "min_margin", "progress", "sim_time")
     perf_instances = ("step-400", "block-500")
+    env_ids = ("terrabench/Octopus-v1",)
     smoke = {"methods": ["clm"], "instances": ["step-400"], "overrides": {"protocol.timeout": 2.0}}
 
     def methods(self) -> dict[str, MethodInfo]:
@@ -66,6 +67,11 @@ class OctopusSystem(System):
         if spec.method == "ccm":
             return CCMController(cfg.ccm)
         raise ValueError(f"unknown octopus method {spec.method!r}; valid: {', '.join(METHODS)}")
+
+    def env_adapter(self):
+        from terrabench.systems.octopus.env import OctopusEnvAdapter
+
+        return OctopusEnvAdapter()
 
     def summarize(self, rows: list[dict[str, Any]]):
         from terrabench.systems.octopus.report import summary_table

@@ -1,0 +1,47 @@
+"""The OCTOPUS Gymnasium env: check_env, the sensing boundary as observation, benchmark agreement."""
+
+import math
+import warnings
+
+import gymnasium
+import numpy as np
+from gymnasium.utils.env_checker import check_env
+
+import terrabench.envs  # noqa: F401  (registers the ids)
+from terrabench.systems.octopus.scenarios import SYSTEM
+
+ENV_ID = "terrabench/Octopus-v1"
+SHORT = {"protocol.timeout": 1.0}
+
+
+def test_check_env_passes_and_the_observation_is_the_sensing_boundary():
+    env = gymnasium.make(ENV_ID, method="clm", instance="step-400", overrides=SHORT)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # advisory: unbounded observation boxes
+        check_env(env.unwrapped)
+    assert set(env.observation_space.spaces) == {"imu", "q_flip", "q_arm", "tau_flip", "tau_elbow", "time"}
+    assert env.action_space.shape == (18,)
+    env.close()
+
+
+def test_the_benchmark_controller_through_the_env_gives_the_benchmark_metrics():
+    over = {"protocol.timeout": 2.0}
+    env = gymnasium.make(ENV_ID, method="clm", instance="step-400", overrides=over).unwrapped
+    env.reset(seed=0)
+    ctrl = env.reference_controller()
+    while True:
+        _, r, term, trunc, info = env.step(env.adapter.reference_action(ctrl(env.sensed)))
+        assert r == sum(info["reward_terms"].values())
+        if term or trunc:
+            break
+    got = env.trial_result()
+    ref = SYSTEM.run_trial(SYSTEM.plan(methods=["clm"], instances=["step-400"], overrides=over)[0])
+    assert got.status == ref.status
+    assert got.metrics.keys() == ref.metrics.keys()
+    for k in ref.metrics:
+        a, b = got.metrics[k], ref.metrics[k]
+        assert (math.isnan(a) and math.isnan(b)) or a == b, k
+    # the controller's state codes (mode, moving arm) are not in an action: the rest is bitwise
+    for k in ref.timeseries:
+        if k not in ("mode", "moving_arm"):
+            np.testing.assert_array_equal(got.timeseries[k], ref.timeseries[k], err_msg=k)

@@ -41,7 +41,7 @@ class CLMConfig:
         k_boom: boom gain K of eqs. 19-21 (per tick).
         contact_torque: elbow-torque change that signals a tip contact (N m).
         hit_torque: elbow-torque change of a supporting arm that signals a collision (N m).
-        press: boom angle added after contact so the tip carries load (rad).
+        press: the tip target is set this far below the landed tip so the tip carries load (m).
         targets: transfer target tips in {R} (x, |y|, z) for (front, rear) arms (m), Table 2's analogue.
         d_c, d_d: arm stop thresholds dC (x) and dD (z) (m).
         gait_pause: support time between two transfers (s).
@@ -72,7 +72,7 @@ class CLMConfig:
     k_boom: float = 0.15
     contact_torque: float = 20.0
     hit_torque: float = 45.0
-    press: float = 0.06
+    press: float = 0.03
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
     d_c: float = 0.1
     d_d: float = 0.08
@@ -326,8 +326,10 @@ class CLMController:
         cfg = self.cfg
         self.phase[k] = 0
         self.contact[i] = True
-        self.cmd.arm[i] = obs.q_arm[i]
-        self.cmd.arm[i, 1] += cfg.press
+        # press: the tip target goes straight down by ``press`` in {R} (IK), so the arm takes load
+        # without pushing the chassis sideways on its rolling tips (a boom-only press would)
+        p_tip = ak.fk(obs.q_arm[i], self.robot, k)
+        self.cmd.arm[i] = ak.ik(p_tip - np.array([0.0, 0.0, cfg.press]), self.robot, k)
         self.tau_ref[i] = obs.tau_elbow[i]
         p = ak.fk(obs.q_arm[i], self.robot, k)
         case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)

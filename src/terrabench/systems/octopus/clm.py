@@ -275,7 +275,8 @@ class CLMController:
 
     def _lead(self, obs) -> None:
         m = self.cfg.max_lead
-        self.cmd.arm[:] = np.clip(self.cmd.arm, obs.q_arm - m, obs.q_arm + m)
+        q = obs.q_arm
+        np.minimum(np.maximum(self.cmd.arm, q - m, out=self.cmd.arm), q + m, out=self.cmd.arm)
 
     def _transfer(self, obs) -> int:
         """Advance the arm in transfer (if any); returns its index or -1."""

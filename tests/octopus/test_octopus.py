@@ -130,3 +130,35 @@ def test_bad_input():
         SYSTEM.plan(overrides={"scene.step_height": 2.0})
     with pytest.raises(ValueError, match="seeds"):
         SYSTEM.plan(seeds=0)
+
+
+def test_clm_lift_raises_chassis_vertically():
+    """Tips on the ground, all tip targets pushed straight down: the chassis rises, it does not slide back."""
+    from terrabench.sim.episode import Episode
+
+    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1, overrides={"protocol.timeout": 40.0})[0]
+    cfg = SYSTEM.load_config(spec.config)
+    task = SYSTEM.make_task(spec, cfg)
+    ctl = SYSTEM.make_controller(spec, cfg, task)
+    ep = Episode(task)
+    obs, stop = ep.begin()
+    start = None
+    while stop is None:
+        obs, stop = ep.step(ctl(obs))
+        x, z = ep.data.xpos[task.chassis, 0], ep.data.xpos[task.chassis, 2]
+        if ctl.state == clm.CLIMB and start is None:
+            start = (obs.t, x, z)
+        if start is not None and obs.t > start[0] + 2.5:
+            break
+    assert start is not None, "the step was never detected"
+    assert z - start[2] > 0.2          # lifted on the arms
+    assert x - start[1] > -0.1         # no backward slide on the rolling tips
+
+
+def test_clm_climbs_and_ccm_limits():
+    """CLM climbs the 400 mm step; the crawler-only baseline climbs 200 mm and not 400 mm."""
+    (clm_400,) = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1)
+    ccm_200, ccm_400 = SYSTEM.plan(methods=["ccm"], instances=["sweep-h200", "sweep-h400"], seeds=1)
+    assert SYSTEM.run_trial(clm_400).status == "success"
+    assert SYSTEM.run_trial(ccm_200).status == "success"
+    assert SYSTEM.run_trial(ccm_400).status != "success"

@@ -26,31 +26,38 @@ class CCMConfig:
     Attributes:
         track_speed: crawler speed (m/s).
         front_approach: front flipper angle while approaching (rad).
-        t0, d_a, a0, d_b: the paper's flipper torque rule (N m, rad/tick, rad, rad/tick).
+        t0, d_a, a0, d_b: the paper's flipper torque rule (N m, rad/tick, rad, rad/tick); the
+            limit a0 is the climbing angle here (57 deg), not the joint's 85 deg: a flipper raised
+            to 85 deg stands like a wall against the riser and the crawler stalls; at 57 deg its
+            driving underside meets the edge of any step below its tip (about 0.3 m).
         press_pitch: pitch that starts pressing the front flippers down (rad).
-        front_press: front flipper target while pressing (rad); rear_push: rear flipper target
+        front_press: lowest front flipper target while pressing (rad) (the target is -pitch:
+            flippers level on the top); rear_push: rear flipper target
             while pushing (rad, < 0 pushes the rear up).
         push_pitch: pitch above which the rear flippers push (rad).
-        flatten_drop: pitch fall from its peak that means the nose is over the edge (rad).
+        flatten_pitch: while pushing, the rear flippers relax below this pitch (rad).
+        level_time: level (|pitch| < 0.05 rad) this long while pushing = on the top: flatten (s).
         abort_pitch: pitch beyond which the climb is aborted (rad).
         d_flip: flipper step toward a target per 0.02 s tick (rad).
-        stowed_arm: (swing, boom, elbow) of the stowed front arms (rad); lifted_arm of the rear arms.
+        stowed_arm: (swing, boom, elbow) of the front arms (rad): the original pose, every joint 0 (the
+            paper keeps the front arms "in the original positions"); lifted_arm of the rear arms.
     """
 
     track_speed: float = 0.1
-    front_approach: float = 0.6
+    front_approach: float = 1.0
     t0: float = 40.0
     d_a: float = 0.02
-    a0: float = 1.4835
+    a0: float = 1.0
     d_b: float = 0.02
     press_pitch: float = 0.15
     front_press: float = -0.4
     rear_push: float = -0.9
     push_pitch: float = 0.3
-    flatten_drop: float = 0.15
+    flatten_pitch: float = 0.1
+    level_time: float = 1.0
     abort_pitch: float = 1.0
     d_flip: float = 0.03
-    stowed_arm: tuple[float, float, float] = (1.2, -1.1, 2.4)
+    stowed_arm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     lifted_arm: tuple[float, float, float] = (-1.2, -1.1, 2.4)
 
 
@@ -65,6 +72,7 @@ class CCMController:
         self.cmd.flip[:] = [cfg.front_approach, cfg.front_approach, 0.0, 0.0]
         self.state = APPROACH
         self.peak = 0.0
+        self.level_t = 0.0
         self.started = False
         self.events: list[tuple[float, str]] = []
 
@@ -86,25 +94,33 @@ class CCMController:
         if self.state == APPROACH:
             for f in (0, 1):
                 c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b)
-            if p > cfg.press_pitch:
+            # contact: the torque rule has raised the front flippers to their climbing angle and
+            # they still push back (an edge on their driving side), or the nose is already rising
+            at_cap = min(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.05
+            pushed = max(abs(obs.tau_flip[0]), abs(obs.tau_flip[1])) > cfg.t0
+            if p > cfg.press_pitch or (at_cap and pushed):
                 self.state = PRESS
                 self.events.append((obs.t, "front flippers on the edge: press"))
         elif self.state == PRESS:
-            self._toward(0, cfg.front_press)
-            self._toward(1, cfg.front_press)
+            # front flippers laid along the top (level in the world: angle = -pitch): they carry
+            # the nose onto the top and drive; pressing further would only stand the robot up
+            fp = max(-p, cfg.front_press)
+            self._toward(0, fp)
+            self._toward(1, fp)
             if p > cfg.push_pitch:
                 self.state = PUSH
                 self.events.append((obs.t, "rear flippers push"))
-            elif p < self.peak - cfg.flatten_drop:
-                self.state = FLATTEN
         elif self.state == PUSH:
+            # pitch feedback: the front flippers stay level on the top, the rear ones push while
+            # the nose is up and relax once it is down (a dip is not yet the top: no flatten)
             for f in (0, 1):
-                self._toward(f, cfg.front_press)
+                self._toward(f, max(-p, cfg.front_press))
             for f in (2, 3):
-                self._toward(f, cfg.rear_push)
-            if p < self.peak - cfg.flatten_drop:
+                self._toward(f, cfg.rear_push if p > cfg.flatten_pitch else 0.0)
+            self.level_t = self.level_t + 0.02 if abs(p) < 0.05 else 0.0
+            if self.level_t >= cfg.level_time:
                 self.state = FLATTEN
-                self.events.append((obs.t, "over the edge: flatten"))
+                self.events.append((obs.t, "level on the top: flatten"))
         elif self.state == FLATTEN:
             for f in range(4):
                 self._toward(f, 0.0)

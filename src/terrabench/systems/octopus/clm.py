@@ -41,7 +41,7 @@ class CLMConfig:
         k_boom: boom gain K of eqs. 19-21 (per tick).
         contact_torque: elbow-torque change that signals a tip contact (N m).
         hit_torque: elbow-torque change of a supporting arm that signals a collision (N m).
-        press: boom angle added after contact so the tip carries load (rad).
+        press: the tip target is set this far below the landed tip so the tip carries load (m).
         targets: transfer target tips in {R} (x, |y|, z) for (front, rear) arms (m), Table 2's analogue.
         d_c, d_d: arm stop thresholds dC (x) and dD (z) (m).
         gait_pause: support time between two transfers (s).
@@ -72,7 +72,7 @@ class CLMConfig:
     k_boom: float = 0.15
     contact_torque: float = 20.0
     hit_torque: float = 45.0
-    press: float = 0.06
+    press: float = 0.03
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
     d_c: float = 0.1
     d_d: float = 0.08
@@ -84,9 +84,12 @@ class CLMConfig:
     release_boom: float = 0.0
     max_lead: float = 0.35
     pitch_cap: float = 0.25
-    lift_margin: float = 0.06
+    lift_margin: float = 0.03
     flip_min: float = -0.8
     stall_lag: float = 0.25
+    lift_dz: float = 0.002
+    flip_lead: float = 0.05
+    flip_wait: float = 0.5
 
 
 # ---------------------------------------------------------------------------- pure rules
@@ -272,7 +275,8 @@ class CLMController:
 
     def _lead(self, obs) -> None:
         m = self.cfg.max_lead
-        self.cmd.arm[:] = np.clip(self.cmd.arm, obs.q_arm - m, obs.q_arm + m)
+        q = obs.q_arm
+        np.minimum(np.maximum(self.cmd.arm, q - m, out=self.cmd.arm), q + m, out=self.cmd.arm)
 
     def _transfer(self, obs) -> int:
         """Advance the arm in transfer (if any); returns its index or -1."""
@@ -323,13 +327,70 @@ class CLMController:
         cfg = self.cfg
         self.phase[k] = 0
         self.contact[i] = True
-        self.cmd.arm[i] = obs.q_arm[i]
-        self.cmd.arm[i, 1] += cfg.press
+        # press: the tip target goes straight down by ``press`` in {R} (IK), so the arm takes load
+        # without pushing the chassis sideways on its rolling tips (a boom-only press would)
+        p_tip = ak.fk(obs.q_arm[i], self.robot, k)
+        self.cmd.arm[i] = ak.ik(p_tip - np.array([0.0, 0.0, cfg.press]), self.robot, k)
         self.tau_ref[i] = obs.tau_elbow[i]
         p = ak.fk(obs.q_arm[i], self.robot, k)
         case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)
         self.events.append((obs.t, f"{k} landed: {case}"))
         self.pause_until = obs.t + cfg.gait_pause
+
+    # ---------------------------------------------------------------- climbing
+    def _climb(self, obs) -> None:
+        """Eqs. 28-29 with a vertical lift and the crawlers loaded (docs/assumptions-octopus.md).
+
+        Lift: every tip target in {R} moves straight down by ``lift_dz`` a tick (IK), so the
+        chassis rises vertically on its rolling tips; a boom-only lift (eq. 28 read literally)
+        also swings the chassis along the arm planes, backward here, with nothing to stop it.
+        The lift holds once H > H_EST + ``lift_margin`` (the track bottom just above the top),
+        the front booms hold while the nose is above ``pitch_cap`` (the rear ones below minus it).
+        Flippers: eq. 29, all down; the front ones press onto the top with a torque-limited
+        lead, so the front crawlers carry load and drive; the rear ones push on the ground.
+        S (eq. 5, track odometry) counts from the moment H reaches H_EST: before that the
+        crawler front is against the riser and cannot advance. Release (S > L and H > H_EST):
+        booms up by dE a tick to their rest angle, flippers up by dF to 0, then walk.
+        """
+        cfg, c = self.cfg, self.cmd
+        c.track[:] = cfg.climb_track_speed
+        h = cog_height(self.tip_c[2:], cfg.h2)
+        self.h = h
+        if self.state == CLIMB:
+            if h >= self.h_est:
+                self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
+            if h < self.h_est + cfg.lift_margin:
+                for i, k in enumerate(ARMS):
+                    front = i < 2
+                    if (front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap):
+                        continue
+                    self.lift_tgt[i, 2] -= cfg.lift_dz
+            for i, k in enumerate(ARMS):
+                c.arm[i] = ak.ik(self.lift_tgt[i], self.robot, k)
+            for f in range(4):
+                # eq. 29 (A' - dF), the command kept within flip_lead of the measured angle:
+                # a flipper that meets the top (front) or the ground (rear) presses with kp * lead
+                front = f < 2
+                if front and h < cfg.flip_wait * self.h_est:
+                    continue  # the tip is still below the edge: it stays raised against the riser
+                c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
+            if self.s > cfg.climb_distance and h > self.h_est:
+                self.state = RELEASE
+                self.events.append((obs.t, f"released: H = {h:.3f} m, S = {self.s:.3f} m"))
+        else:  # RELEASE (eqs. 28-29 second cases)
+            for i in range(4):
+                if c.arm[i, 1] > cfg.release_boom:
+                    c.arm[i, 1] = max(c.arm[i, 1] - cfg.d_e, cfg.release_boom)
+            for f in range(4):
+                if c.flip[f] < 0.0:
+                    c.flip[f] = min(c.flip[f] + cfg.d_f, 0.0)
+            if all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
+                # back to walking on the top: arms re-placed, front flippers to their cruise angle
+                self.state = WALK
+                self.queue = list(GAIT_ORDER)
+                c.flip[:2] = cfg.flipper_start
+                self.contact[:] = False
+                self.events.append((obs.t, "climb done, walking"))
 
     # ---------------------------------------------------------------- main
     def __call__(self, obs) -> Command:
@@ -363,42 +424,13 @@ class CLMController:
             if all_down and self.last_case == UP and at_limit:
                 self.h_est = step_height(z)
                 self.state, self.s = CLIMB, 0.0
+                self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
                 self.events.append((obs.t, f"step detected: H_EST = {self.h_est:.3f} m; climbing"))
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c
-        # CLIMB / RELEASE: eqs. 28-29 on all booms and all flippers
-        c.track[:] = cfg.climb_track_speed
-        self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
-        h = cog_height(self.tip_c[2:], cfg.h2)
-        self.h = h
-        released = False
-        lifting = h < self.h_est or self.s < cfg.climb_distance
-        for i in range(4):
-            nb, _, released = climb_rule(c.arm[i, 1], 0.0, h, self.h_est, self.s, cfg.climb_distance,
-                                         cfg.d_e, cfg.d_f, cfg.release_boom)
-            # our addition: a front (rear) boom holds while the nose is too high (low)
-            front = i < 2
-            if lifting and ((front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap)
-                            or h > self.h_est + cfg.lift_margin):
-                nb = c.arm[i, 1]
-            c.arm[i, 1] = nb
-        for f in range(4):
-            _, nf, released = climb_rule(0.0, c.flip[f], h, self.h_est, self.s, cfg.climb_distance,
-                                         cfg.d_e, cfg.d_f, cfg.release_boom)
-            if lifting and f < 2 and h < self.h_est:
-                nf = c.flip[f]  # front flippers stay raised against the riser until the tracks clear it
-            c.flip[f] = max(nf, cfg.flip_min)
-        if released and self.state == CLIMB:
-            self.state = RELEASE
-            self.events.append((obs.t, f"released: H = {h:.3f} m, S = {self.s:.3f} m"))
-        if self.state == RELEASE and all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
-            # back to walking on the top: arms re-placed, front flippers to their cruise angle
-            self.state = WALK
-            self.queue = list(GAIT_ORDER)
-            c.flip[:2] = cfg.flipper_start
-            self.contact[:] = False
-            self.events.append((obs.t, "climb done, walking"))
+        # CLIMB / RELEASE: eqs. 28-29 (lift, drive, release); see _climb
+        self._climb(obs)
         c.mode, c.moving_arm = self.state, -1
         self._lead(obs)
         return c

@@ -220,7 +220,10 @@ def add_robot(spec: mujoco.MjSpec, pos: tuple[float, float, float], yaw: float, 
                      damping=cfg.roller_damping, armature=0.001)
         rx.add_geom(type=sph, size=[0.01, 0, 0], mass=0.05, contype=0, conaffinity=0)
         ry = rx.add_body(name=Names.tip(k))
-        ry.add_joint(name=Names.roller_joint(k, "y"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0],
+        # the second roller axis lies in the arm plane across the forearm (fore z): with the
+        # first (along the elbow axis) the tip rolls both along and across the arm plane. An axis
+        # along the forearm would only spin the ball about the (near vertical) forearm.
+        ry.add_joint(name=Names.roller_joint(k, "y"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1],
                      damping=cfg.roller_damping, armature=0.001)
         ry.add_geom(name=Names.tip(k), type=sph, size=[cfg.tip_r, 0, 0], mass=cfg.link_mass[2],
                     rgba=[0.9, 0.2, 0.2, 1], **hit)

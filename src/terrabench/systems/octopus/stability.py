@@ -9,24 +9,37 @@ import numpy as np
 
 
 def convex_hull(points: np.ndarray) -> np.ndarray:
-    """Counter-clockwise hull (m, 2) of (n, 2) points (Andrew's monotone chain); collinear dropped."""
-    pts = np.unique(np.asarray(points, float).reshape(-1, 2), axis=0)
-    if len(pts) < 3:
+    """Counter-clockwise hull (m, 2) of (n, 2) points (Andrew's monotone chain); collinear dropped.
+
+    Plain-float loop over the (few) sorted points: the contact sets here have 4-40 points, where
+    numpy's per-call overhead would dominate.
+    """
+    pts = np.asarray(points, float).reshape(-1, 2)
+    if len(pts) == 0:
         return pts
+    order = np.lexsort((pts[:, 1], pts[:, 0]))
+    ps = [tuple(p) for p in pts[order].tolist()]
+    # drop exact duplicates (sorted, so they are adjacent)
+    uniq = [ps[0]]
+    for p in ps[1:]:
+        if p != uniq[-1]:
+            uniq.append(p)
+    if len(uniq) < 3:
+        return np.array(uniq)
 
-    def cross(o, a, b):
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    def half(seq):
+        out: list = []
+        for p in seq:
+            while len(out) >= 2:
+                (ox, oy), (ax, ay) = out[-2], out[-1]
+                if (ax - ox) * (p[1] - oy) - (ay - oy) * (p[0] - ox) <= 1e-12:
+                    out.pop()
+                else:
+                    break
+            out.append(p)
+        return out
 
-    lower: list = []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 1e-12:
-            lower.pop()
-        lower.append(p)
-    upper: list = []
-    for p in pts[::-1]:
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 1e-12:
-            upper.pop()
-        upper.append(p)
+    lower, upper = half(uniq), half(uniq[::-1])
     return np.array(lower[:-1] + upper[:-1])
 
 
@@ -41,21 +54,20 @@ def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     c = np.asarray(cog_xy, float)
     if len(hull) == 0:
         return float("nan")
-    if len(hull) < 3:
-        if len(hull) == 1:
-            return -float(np.linalg.norm(c - hull[0]))
-        return -_seg_dist(c, hull[0], hull[1])
-    dists = [_seg_dist(c, hull[i], hull[(i + 1) % len(hull)]) for i in range(len(hull))]
-    d = min(dists)
-    inside = all(_cross2(hull[(i + 1) % len(hull)] - hull[i], c - hull[i]) >= 0 for i in range(len(hull)))
+    if len(hull) == 1:
+        return -float(np.hypot(*(c - hull[0])))
+    if len(hull) == 2:
+        return -float(_seg_dists(c, hull[:1], hull[1:])[0])
+    a, b = hull, np.roll(hull, -1, axis=0)
+    d = float(_seg_dists(c, a, b).min())
+    e, w = b - a, c - a
+    inside = bool((e[:, 0] * w[:, 1] - e[:, 1] * w[:, 0] >= 0).all())
     return d if inside else -d
 
 
-def _cross2(a, b) -> float:
-    return float(a[0] * b[1] - a[1] * b[0])
-
-
-def _seg_dist(p, a, b) -> float:
-    ab = b - a
-    t = float(np.clip(np.dot(p - a, ab) / max(np.dot(ab, ab), 1e-18), 0.0, 1.0))
-    return float(np.linalg.norm(p - (a + t * ab)))
+def _seg_dists(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distances from p (2,) to the segments a[i]-b[i] (k, 2) each."""
+    ab, ap = b - a, p - a
+    t = np.clip((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0, 1.0)
+    q = a + t[:, None] * ab
+    return np.hypot(p[0] - q[:, 0], p[1] - q[:, 1])

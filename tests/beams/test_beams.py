@@ -316,3 +316,7 @@ def test_centre_reading_flips_the_mode_choice_between_k_low_and_k_high():
     assert edge_low["roll"] < edge_low["pitch"]
     mgh = ROBOT.mass * 9.81 * ROBOT.h_c
     assert edge_low["roll"] < 0.3 * mgh < low["roll"] < mgh  # 7.5 mJ vs ~28 mJ of the 39 mJ roll-up
+    from terrabench.systems.beams.landscape import critical_stiffness_landscape
+    k_centre = critical_stiffness_landscape(ROBOT, centre, grid)
+    k_edge = critical_stiffness_landscape(ROBOT, BeamLayout(), grid)
+    assert 0.01 < k_centre < 0.25 and k_edge < 0.01  # only the centre reading puts k_low and k_high apart

@@ -191,7 +191,8 @@ def critical_stiffness_landscape(robot: RobotParams = RobotParams(), layout: Bea
                                  k_hi: float = 10.0, iters: int = 40) -> float:
     """The landscape's own critical stiffness (N m/rad): the k = k1 = k2 (h_b = 0) at which the
     pitch barrier of :func:`pitch_roll_barriers` equals the roll barrier (the counterpart of the
-    paper's k_0 = M g h_c / arccos(H/L)^2). NaN if the crossover is outside [k_lo, k_hi]."""
+    paper's k_0 = M g h_c / arccos(H/L)^2). NaN if the crossover is outside [k_lo, k_hi], if no
+    roll clears the beams, or if the level robot passes without contact (no choice to make)."""
     th = [deflection_field(robot, layout, grid, 0.0, i).astype(np.float64) for i in range(2)]
     ang = grid.angles
     ia0 = ang.size // 2
@@ -205,7 +206,7 @@ def critical_stiffness_landscape(robot: RobotParams = RobotParams(), layout: Bea
     def pitch(k: float) -> float:
         return float((eg0 + 0.5 * k * sq).min(axis=1).max() - e0)
 
-    if not np.isfinite(roll) or pitch(k_lo) > roll or pitch(k_hi) < roll:
+    if not np.isfinite(roll) or roll <= 1e-12 or pitch(k_lo) > roll or pitch(k_hi) < roll:
         return float("nan")
     lo, hi = np.log(k_lo), np.log(k_hi)
     for _ in range(iters):

@@ -106,7 +106,7 @@ def paper_vs_readings(rows) -> list[dict[str, Any]]:
     add("landscape crossover k (pitch = roll barrier) at d = 0.12 (N m/rad)", "0.028 (k_0)",
         lambda rs: bar(rs, "gap0.12", "k_cross", 4))
     add("roll barrier at d = 0.12 (mJ)", "~ M g h_c = 39", lambda rs: bar(rs, "gap0.12", "roll_mJ"))
-    add("pitch barrier k = 0.01 / 0.25 at d = 0.12 (mJ)", "k arccos(H/L)^2: 1.4 / 35",
+    add("pitch barrier k = 0.01 / 0.25 at d = 0.12 (mJ)", "k arccos(H/L)^2 = 14 / 352",
         lambda rs: bar(rs, "gap0.12", "pitch_low_mJ") + " / " + bar(rs, "gap0.12", "pitch_high_mJ"))
     for inst in ("stiff-f0.1", "flimsy-f0.1", "stiff-f1", "flimsy-f1"):
         def ol(rs, inst=inst):

@@ -15,6 +15,7 @@ from terrabench.systems.beams.estimation import (EstimatorConfig, SensingConfig,
 from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, RobotParams, _quad_form,
                                             contact_scalar, critical_stiffness, deflection_vec,
                                             generalized_forces, potential_energy, simulate)
+from terrabench.config import override
 from terrabench.systems.beams.scenarios import TrialConfig
 
 ROBOT, LAYOUT = RobotParams(), BeamLayout()
@@ -136,14 +137,15 @@ def test_nelder_mead_batch_finds_minimum():
 
 
 def _quick_spec(seed=0, **kw):
-    cfg = TrialConfig(kind="estimation", sensing_time=0.1, n_starts=20, n_unknowns=3, sigma=0.2, **kw)
+    cfg = override(TrialConfig(kind="estimation"), {"sensing.sensing_time": 0.1, "estimator.n_starts": 20,
+                                                    "estimator.n_unknowns": 3, "sensing.sigma": 0.2, **kw})
     return TrialSpec("beams", "beams/estimation-v1", "estimate-3", "sigma20-ts100", seed, cfg.to_dict())
 
 
 def test_run_trial_deterministic_with_seed():
     a, b, c = SYSTEM.run_trial(_quick_spec(1)), SYSTEM.run_trial(_quick_spec(1)), SYSTEM.run_trial(_quick_spec(2))
     assert a.status == "done" and a.status in STATUSES
-    assert a.metrics == {**b.metrics, "estimate_time_s": a.metrics["estimate_time_s"]}
+    assert a.metrics == b.metrics  # wall-clock times live in info, not in metrics
     assert a.metrics["k1_hat"] != c.metrics["k1_hat"]
     for k in ("t", "fx", "fx_clean"):
         np.testing.assert_array_equal(a.timeseries[k], b.timeseries[k])
@@ -153,9 +155,11 @@ def test_run_trial_deterministic_with_seed():
     lambda: Beam(k=-0.1),
     lambda: RobotParams(mass=-0.2),
     lambda: SensingConfig(sigma=-0.05),
-    lambda: TrialConfig(k1=-1.0),
-    lambda: TrialConfig(mass=0.0),
-    lambda: TrialConfig(sigma=-0.1),
+    lambda: override(TrialConfig(), {"case.k1": -1.0}),
+    lambda: override(TrialConfig(), {"robot.mass": 0.0}),
+    lambda: override(TrialConfig(), {"sensing.sigma": -0.1}),
+    lambda: override(TrialConfig(), {"layout.gap_reading": "middle"}),
+    lambda: BeamLayout(gap=0.04, gap_reading="centre"),
     lambda: EstimatorConfig(n_unknowns=5),
 ])
 def test_bad_parameters_raise(make):
@@ -177,7 +181,8 @@ def test_untouched_beams_raise():
 
 def test_bad_trial_is_an_error_row_and_bad_ids_raise():
     spec = _quick_spec()
-    bad = TrialSpec(spec.system, spec.scenario, spec.method, spec.instance, 0, {**spec.config, "sigma": -1.0})
+    bad = TrialSpec(spec.system, spec.scenario, spec.method, spec.instance, 0,
+                    {**spec.config, "sensing": {**spec.config["sensing"], "sigma": -1.0}})
     assert SYSTEM.run_trial(bad).status == "error"
     for kw in ({"group": "nope"}, {"methods": ["nope"]}, {"instances": ["nope"]}, {"overrides": {"nope": 1}}):
         with pytest.raises(ValueError):
@@ -195,7 +200,9 @@ def test_plan_and_registry():
     assert len(specs) == 3 * 7 * 3 and len({s.key for s in specs}) == len(specs)
     assert len(SYSTEM.plan(group="traversal", instances=["stiff"], seeds=2)) == 3  # 2 interact + 1 avoid
     s = SYSTEM.plan(group="open-loop", overrides={"beams.dt": 1e-4})[0]
-    assert s.config["dt"] == 1e-4
+    assert s.config["physics"]["dt"] == 1e-4
+    s = SYSTEM.plan(group="open-loop", overrides={"physics.dt": 1e-4})[0]
+    assert s.config["physics"]["dt"] == 1e-4
 
 
 def test_landscape_and_avoid_plan_is_contact_free():
@@ -227,3 +234,89 @@ def test_interact_traversal_succeeds():
         res = SYSTEM.run_trial(spec)
         assert res.status == "success", res.info
         assert res.metrics["energy_mJ"] > 0
+
+
+# --------------------------------------------------------------------------- nested config, timeout, readings
+
+def test_stored_config_round_trips_and_holds_every_section():
+    for spec in SYSTEM.plan(group="all", seeds=2):
+        cfg = TrialConfig.from_dict(spec.config)
+        assert cfg.to_dict() == spec.config
+        assert {"robot", "layout", "case", "sensing", "estimator", "landscape", "planner", "control", "physics",
+                "protocol", "check", "experiment"} <= set(spec.config)
+
+
+def test_changing_a_landscape_default_changes_the_key():
+    from dataclasses import replace
+    from terrabench.systems.beams.landscape import LandscapeConfig
+    spec = SYSTEM.plan(group="traversal", instances=["stiff"], methods=["avoid"])[0]
+    cfg = TrialConfig.from_dict(spec.config)
+    other = replace(cfg, landscape=LandscapeConfig(dx=0.004))
+    spec2 = TrialSpec(spec.system, spec.scenario, spec.method, spec.instance, spec.seed, other.to_dict())
+    assert spec2.key != spec.key
+    assert SYSTEM.plan(group="traversal", instances=["stiff"], methods=["avoid"],
+                       overrides={"landscape.dx": 0.004})[0].key == spec2.key
+
+
+def test_unknown_or_bad_override_names_the_key():
+    with pytest.raises(ValueError, match="landscape.nope"):
+        SYSTEM.plan(group="open-loop", overrides={"landscape.nope": 1})
+    with pytest.raises(ValueError, match="protocol.delay"):
+        SYSTEM.plan(group="open-loop", overrides={"protocol.delay": "soon"})
+
+
+def test_timeout_key_caps_simulated_time():
+    assert SYSTEM.timeout_key == "protocol.timeout"
+    spec = SYSTEM.plan(group="open-loop", instances=["flimsy-f1"], overrides={SYSTEM.timeout_key: 0.1})[0]
+    assert SYSTEM.run_trial(spec).status == "timeout"
+    est = _quick_spec(**{"protocol.timeout": 0.2})
+    assert SYSTEM.run_trial(est).status == "timeout"
+
+
+def test_gap_reading_places_the_plates_and_is_hashed():
+    edge, centre = BeamLayout(), BeamLayout(gap_reading="centre")
+    assert edge.y_range(0) == pytest.approx((0.06, 0.11)) and edge.inner_gap == pytest.approx(0.12)
+    assert centre.y_range(0) == pytest.approx((0.035, 0.085)) and centre.inner_gap == pytest.approx(0.07)
+    assert centre.y_range(1) == pytest.approx((-0.085, -0.035))
+    a = SYSTEM.plan(group="open-loop", instances=["stiff-f1"])[0]
+    b = SYSTEM.plan(group="open-loop", instances=["stiff-f1"], overrides={"layout.gap_reading": "centre"})[0]
+    assert a.key != b.key and b.config["layout"]["gap_reading"] == "centre"
+
+
+def test_start_follows_the_layout():
+    from terrabench.systems.beams.model import first_contact_x
+    edge = TrialConfig()
+    centre = override(TrialConfig(), {"layout.gap_reading": "centre"})
+    assert edge.x_start() == -0.08  # the pre-port constant, bitwise
+    for cfg in (edge, centre):
+        x0 = cfg.x_start()
+        assert not any(contact_scalar((x0, 0.0, 0.0), Beam(1.0), i, cfg.robot, cfg.layout).in_contact
+                       for i in range(2))
+        assert first_contact_x(cfg.robot, cfg.layout) - x0 == pytest.approx(0.018, abs=6e-4)
+    assert centre.x_start() < -0.1
+
+
+def test_landscape_cache_key_includes_the_reading():
+    from terrabench.systems.beams.landscape import LandscapeConfig, _key
+    grid = LandscapeConfig()
+    assert _key(ROBOT, BeamLayout(), grid, 0.0, 0) != _key(ROBOT, BeamLayout(gap_reading="centre"), grid, 0.0, 0)
+
+
+def test_centre_reading_flips_the_mode_choice_between_k_low_and_k_high():
+    """Under the centre reading the roll barrier exceeds the pitch barrier at k = 0.01 (pitch
+    over flimsy beams) and not at k = 0.25 (roll through stiff ones); under the edge reading the
+    roll barrier is below the pitch barrier at both."""
+    from terrabench.systems.beams.landscape import LandscapeConfig, pitch_roll_barriers
+    grid = LandscapeConfig(dx=0.004, dangle_deg=3.0)
+    centre = BeamLayout(gap_reading="centre")
+    low, high = (pitch_roll_barriers(k, ROBOT, centre, grid) for k in (0.01, 0.25))
+    assert low["roll"] > low["pitch"]
+    assert high["roll"] < high["pitch"]
+    edge_low = pitch_roll_barriers(0.01, ROBOT, BeamLayout(), grid)
+    assert edge_low["roll"] < edge_low["pitch"]
+    mgh = ROBOT.mass * 9.81 * ROBOT.h_c
+    assert edge_low["roll"] < 0.3 * mgh < low["roll"] < mgh  # 7.5 mJ vs ~28 mJ of the 39 mJ roll-up
+    from terrabench.systems.beams.landscape import critical_stiffness_landscape
+    k_centre = critical_stiffness_landscape(ROBOT, centre, grid)
+    k_edge = critical_stiffness_landscape(ROBOT, BeamLayout(), grid)
+    assert 0.01 < k_centre < 0.25 and k_edge < 0.01  # only the centre reading puts k_low and k_high apart

@@ -26,6 +26,7 @@ class BeamsSystem(System):
     summary = "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through"
     config_cls = _sc.TrialConfig
     groups = {g: g for g in _sc.GROUPS}
+    timeout_key = "protocol.timeout"
     headline_metrics = ()
     smoke = {"methods": ["open-loop"], "instances": ["flimsy-f0.1"]}
 
@@ -35,7 +36,7 @@ class BeamsSystem(System):
     def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
              group: str | None = None, seeds: int = 1, overrides: dict[str, Any] | None = None) -> list[TrialSpec]:
         """Trial specs for ``group`` (estimation, traversal, open-loop, delay, experiment,
-        contact-check or all); raises ValueError on unknown ids."""
+        contact-check, barriers or all); raises ValueError on unknown ids."""
         return _sc.plan_specs(methods=methods, instances=instances, group=group, seeds=seeds,
                               overrides=overrides or {})
 
@@ -71,6 +72,7 @@ def register(registry) -> None:
         "delay": "Sec. III-E: energy cost vs sensory delay (100, 300, 600 ms)",
         "experiment": "Sec. IV: estimate (k, tau0) with beam mass and preload (eq. 12) on simulated data",
         "contact-check": "Analytic contact model vs MuJoCo quasi-static pushes",
+        "barriers": "Sec. II-G on the landscape: pitch vs roll barrier and crossover stiffness vs the gap",
     }
     for g, sid in _sc.SCENARIOS.items():
         registry.register(Record("scenario", sid, summaries[g], "terrabench.systems.beams.scenarios:plan_specs",

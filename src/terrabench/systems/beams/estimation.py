@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import Beam, ModelConfig, SimLog, deflection_vec, simulate
+from .model import Beam, ModelConfig, SimLog, SimulatedTimeout, deflection_vec, simulate
 
 #: Names of the fitted parameters per estimation variant (number of unknowns).
 VARIANTS = {
@@ -52,6 +52,9 @@ class SensingConfig:
     drive_speed: float | None = None
     """If set, x is driven at this constant speed, m/s (the experiment's servo carriage) and
     ``push_force`` is ignored."""
+    timeout: float = math.inf
+    """Simulated-time cap of the approach-and-push run, s; reaching it before the window ends
+    raises :class:`~.model.SimulatedTimeout`."""
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.sigma) and self.sigma >= 0):
@@ -161,9 +164,13 @@ def sense_clean(cfg: ModelConfig, sensing: SensingConfig) -> SensingData:
         return t >= tc + sensing.sensing_time + sensing.lookahead - 1e-12
 
     v_init = r.v0 if sensing.drive_speed is None else sensing.drive_speed
-    log = simulate(cfg, (sensing.x_start, 0.0, 0.0), (v_init, 0.0, 0.0),
-                   sensing.max_approach_time + sensing.sensing_time + sensing.lookahead + 0.1, ctrl,
+    span = sensing.max_approach_time + sensing.sensing_time + sensing.lookahead + 0.1
+    log = simulate(cfg, (sensing.x_start, 0.0, 0.0), (v_init, 0.0, 0.0), min(span, sensing.timeout), ctrl,
                    x_exit=None, stop=stop, fixed_x_speed=sensing.drive_speed)
+    if sensing.timeout < span and log.outcome == "timeout" and (
+            math.isnan(log.t_contact) or log.t[-1] < log.t_contact + sensing.sensing_time - 1e-9):
+        raise SimulatedTimeout(f"sensing reached the simulated-time cap of {sensing.timeout} s "
+                               f"before the {sensing.sensing_time} s window ended")
     if math.isnan(log.t_contact):
         raise ValueError(
             "the robot never touched the beams within "

@@ -184,3 +184,35 @@ def pitch_roll_barriers(k: float, robot: RobotParams = RobotParams(), layout: Be
     free = np.where(ls.contact_mask(), np.inf, ls.energy)
     roll = float(free.reshape(grid.shape[0], -1).min(axis=1).max() - e0)
     return {"pitch": pitch, "roll": roll}
+
+
+def critical_stiffness_landscape(robot: RobotParams = RobotParams(), layout: BeamLayout = BeamLayout(),
+                                 grid: LandscapeConfig = LandscapeConfig(), k_lo: float = 1e-4,
+                                 k_hi: float = 10.0, iters: int = 40) -> float:
+    """The landscape's own critical stiffness (N m/rad): the k = k1 = k2 (h_b = 0) at which the
+    pitch barrier of :func:`pitch_roll_barriers` equals the roll barrier (the counterpart of the
+    paper's k_0 = M g h_c / arccos(H/L)^2). NaN if the crossover is outside [k_lo, k_hi], if no
+    roll clears the beams, or if the level robot passes without contact (no choice to make)."""
+    th = [deflection_field(robot, layout, grid, 0.0, i).astype(np.float64) for i in range(2)]
+    ang = grid.angles
+    ia0 = ang.size // 2
+    e0 = robot.mass * 9.81 * (robot.height - robot.h_c)
+    eg = robot.mass * 9.81 * com_height(ang[:, None], ang[None, :], robot)
+    free = np.where((th[0] > 0) | (th[1] > 0), np.inf, np.broadcast_to(eg, grid.shape))
+    roll = float(free.reshape(grid.shape[0], -1).min(axis=1).max() - e0)
+    sq = th[0][:, ia0, :] ** 2 + th[1][:, ia0, :] ** 2
+    eg0 = eg[ia0][None, :]
+
+    def pitch(k: float) -> float:
+        return float((eg0 + 0.5 * k * sq).min(axis=1).max() - e0)
+
+    if not np.isfinite(roll) or roll <= 1e-12 or pitch(k_lo) > roll or pitch(k_hi) < roll:
+        return float("nan")
+    lo, hi = np.log(k_lo), np.log(k_hi)
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        if pitch(float(np.exp(mid))) < roll:
+            lo = mid
+        else:
+            hi = mid
+    return float(np.exp(0.5 * (lo + hi)))

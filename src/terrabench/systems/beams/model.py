@@ -45,6 +45,13 @@ import numpy as np
 #: Gravitational acceleration, m/s^2.
 GRAVITY = 9.81
 
+#: Readings of the paper's gap d (see :attr:`BeamLayout.gap_reading`).
+GAP_READINGS = ("edge", "centre")
+
+
+class SimulatedTimeout(Exception):
+    """A run reached its simulated-time cap (``protocol.timeout``) before it could finish."""
+
 
 def _check(name: str, value: float, *, positive: bool = False, nonneg: bool = False) -> None:
     if not np.isfinite(value):
@@ -89,19 +96,37 @@ class BeamLayout:
     """Where the two beams stand and how big they are (paper Sec. II-A)."""
 
     gap: float = 0.12
-    """Gap d between the inner edges of the two beams, m (centred on the x axis)."""
+    """Gap d between the two beams, m (centred on the x axis); what it spans is ``gap_reading``."""
     width: float = 0.05
     """Width w of each plate along y, m."""
     length: float = 0.16
     """Height L of each beam's top edge above the ground when vertical, m."""
+    gap_reading: str = "edge"
+    """How d is measured (paper Sec. II-A, "The gap width between two beams is d = 0.12 m"):
+    ``"edge"``: between the plates' inner edges (the free gap is d; plates at |y| in
+    [d/2, d/2 + w]); ``"centre"``: between the plates' centre lines (the free gap is d - w;
+    plates at |y| in [(d - w)/2, (d + w)/2])."""
 
     def __post_init__(self) -> None:
         for n in ("gap", "width", "length"):
             _check(f"layout.{n}", getattr(self, n), positive=True)
+        if self.gap_reading not in GAP_READINGS:
+            raise ValueError(f"layout.gap_reading = {self.gap_reading!r}; valid: {', '.join(GAP_READINGS)}")
+        if self.inner_gap <= 0:
+            raise ValueError(f"layout.gap = {self.gap!r} m read centre-to-centre leaves no free gap between "
+                             f"plates {self.width!r} m wide; it must exceed the width")
+
+    @property
+    def inner_gap(self) -> float:
+        """Free gap between the plates' inner edges, m."""
+        return self.gap if self.gap_reading == "edge" else self.gap - self.width
 
     def y_range(self, i: int) -> tuple[float, float]:
         """Lateral extent (y0, y1) in m of beam ``i`` (0 = left, +y; 1 = right, -y)."""
-        lo, hi = 0.5 * self.gap, 0.5 * self.gap + self.width
+        if self.gap_reading == "edge":
+            lo, hi = 0.5 * self.gap, 0.5 * self.gap + self.width
+        else:
+            lo, hi = 0.5 * (self.gap - self.width), 0.5 * (self.gap + self.width)
         return (lo, hi) if i == 0 else (-hi, -lo)
 
 
@@ -636,3 +661,30 @@ def simulate(cfg: ModelConfig, q0: Sequence[float], v0: Sequence[float], t_end: 
         be += dt * vb
     return SimLog(np.asarray(ts), np.asarray(qs), np.asarray(vs), np.asarray(us), np.asarray(fs),
                   np.asarray(ths), t_contact, outcome)
+
+
+def first_contact_x(robot: RobotParams, layout: BeamLayout, alpha: float = 0.0, beta: float = 0.0,
+                    tol: float = 1e-9) -> float:
+    """Smallest robot-centre x (m) at which the robot at (alpha, beta) touches a vertical beam
+    (bisection between x = -(a + L + 1) m, far behind, and the beam plane x = 0).
+
+    Raises:
+        ValueError: if the robot passes the beam plane without touching (gap wider than it).
+    """
+    beam = Beam(1.0)
+
+    def touches(x: float) -> bool:
+        return any(contact_scalar((x, alpha, beta), beam, i, robot, layout).in_contact for i in range(2))
+
+    lo, hi = -(robot.a + layout.length + 1.0), 0.0
+    if not touches(hi):
+        raise ValueError(f"the robot (half-width b = {robot.b} m) at roll {math.degrees(alpha):.1f} deg, pitch "
+                         f"{math.degrees(beta):.1f} deg passes a free gap of {layout.inner_gap:.3f} m without "
+                         "touching a beam")
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        if touches(mid):
+            hi = mid
+        else:
+            lo = mid
+    return hi

@@ -13,21 +13,19 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from terrabench.benchmark.trial import TrialResult
 
-from .model import Beam, BeamLayout, RobotParams, contact_scalar
+from .model import Beam, BeamLayout, RobotParams, SimulatedTimeout, contact_scalar
 
 
 @dataclass(frozen=True)
 class CheckConfig:
     """Settings of the quasi-static pushes."""
 
-    k: float = 0.25
-    """Beam stiffness, N m/rad."""
     thickness: float = 0.002
     """Plate thickness in MuJoCo, m (the analytic plate has none)."""
     beam_mass: float = 0.002
@@ -45,6 +43,10 @@ class CheckConfig:
     solref: tuple[float, float] = (-1e6, -60.0)
     """MuJoCo contact solref: (time constant s, damping ratio), or negative (-stiffness N/m,
     -damping N s/m) for direct stiffness."""
+    soft_solref: tuple[float, float] = (0.002, 1.0)
+    """solref of the second, default-like soft push that shows what penetration costs."""
+    soft_timestep: float = 2e-4
+    """MuJoCo time step of the soft push, s."""
 
 
 def build_model(robot: RobotParams, layout: BeamLayout, beams: tuple[Beam, Beam], cfg: CheckConfig):
@@ -111,15 +113,18 @@ def first_contact_x(alpha: float, beta: float, robot: RobotParams, layout: BeamL
 
 
 def compare_push(roll_deg: float, pitch_deg: float, cfg: CheckConfig = CheckConfig(),
-                 robot: RobotParams = RobotParams(), layout: BeamLayout = BeamLayout()) -> dict[str, np.ndarray]:
-    """Push at fixed (roll, pitch); return per-position analytic and MuJoCo deflections/forces.
+                 robot: RobotParams = RobotParams(), layout: BeamLayout = BeamLayout(), k: float = 0.25,
+                 timeout: float = math.inf) -> dict[str, np.ndarray]:
+    """Push at fixed (roll, pitch) into two beams of stiffness ``k`` (N m/rad); return the
+    per-position analytic and MuJoCo deflections/forces. Raises :class:`SimulatedTimeout` when
+    the MuJoCo time would pass ``timeout`` s.
 
     Returns:
         Arrays keyed ``x`` (N,), ``theta_an`` / ``theta_mj`` (N, 2) rad, ``f_an`` / ``f_mj`` (N, 3) N.
     """
     import mujoco
 
-    beams = (Beam(cfg.k), Beam(cfg.k))
+    beams = (Beam(k), Beam(k))
     model = build_model(robot, layout, beams, cfg)
     data = mujoco.MjData(model)
     gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "robot_geom")
@@ -138,6 +143,8 @@ def compare_push(roll_deg: float, pitch_deg: float, cfg: CheckConfig = CheckConf
             x = min(x + step, xm)
             data.mocap_pos[0] = [x, 0.0, robot.height]
             mujoco.mj_step(model, data)
+        if data.time + cfg.settle_time > timeout:
+            raise SimulatedTimeout(f"the MuJoCo push reached the simulated-time cap of {timeout} s")
         for _ in range(n_settle):
             mujoco.mj_step(model, data)
         mujoco.mj_forward(model, data)
@@ -170,13 +177,14 @@ def agreement(res: dict[str, np.ndarray]) -> dict[str, float]:
 
 
 def run_contact_check(cfg) -> TrialResult:
-    """Trial wrapper: ``cfg`` is a :class:`scenarios.TrialConfig` with ``roll_deg`` / ``pitch_deg``."""
+    """Trial wrapper: ``cfg`` is a :class:`scenarios.TrialConfig` (pose in ``protocol``, k = case.k1)."""
     t0 = time.perf_counter()
-    res = compare_push(cfg.roll_deg, cfg.pitch_deg, CheckConfig(k=cfg.k1))
+    p, ck = cfg.protocol, cfg.check
+    res = compare_push(p.roll_deg, p.pitch_deg, ck, cfg.robot, cfg.layout, cfg.case.k1, p.timeout)
     metrics = agreement(res)
     # the same push with MuJoCo's default-like soft contact shows what penetration costs
-    soft = agreement(compare_push(cfg.roll_deg, cfg.pitch_deg, CheckConfig(k=cfg.k1, solref=(0.002, 1.0),
-                                                                            timestep=2e-4)))
+    soft_cfg = replace(ck, solref=tuple(ck.soft_solref), timestep=ck.soft_timestep)
+    soft = agreement(compare_push(p.roll_deg, p.pitch_deg, soft_cfg, cfg.robot, cfg.layout, cfg.case.k1, p.timeout))
     metrics.update({f"soft_{k}": v for k, v in soft.items()})
     ts = {"t": res["x"], "theta1_an": res["theta_an"][:, 0], "theta2_an": res["theta_an"][:, 1],
           "theta1_mj": res["theta_mj"][:, 0], "theta2_mj": res["theta_mj"][:, 1],

@@ -208,9 +208,9 @@ def report(
 @friendly
 def perf(
     system: str = typer.Argument("mrs-cwc", help="system id"),
-    method: Optional[str] = typer.Option(None, help="method whose model and loop are timed (default: the system's first)"),
+    method: Optional[str] = typer.Option(None, help="method whose model and loop are timed (default: the system's first default method)"),
     terrains: Optional[str] = typer.Option(None, help="instance ids (default: the system's perf sample)"),
-    seconds: float = typer.Option(30.0, help="simulated seconds per measurement"),
+    seconds: float = typer.Option(30.0, help="simulated seconds per measurement (systems with a time limit)"),
 ) -> None:
     """The episode loop vs raw mj_step replaying the same commands: steps/s, RTF, ratio."""
     from terrabench.catalog import system as get_system

@@ -32,7 +32,10 @@ def main() -> None:
     ap.add_argument("b")
     ap.add_argument("--by", choices=("key", "trial"), default="key",
                     help="pair rows by store key (default) or by (system, method, instance, seed)")
+    ap.add_argument("--ignore", default="", help="comma-separated metric names not compared "
+                    "(e.g. wall-clock timings a store kept as metrics)")
     args = ap.parse_args()
+    ignored = {m for m in args.ignore.split(",") if m}
     ident = (lambda r: r["key"]) if args.by == "key" else (lambda r: (r["system"], r["method"], r["instance"], r["seed"]))
     with ResultsStore(args.a, read_only=True) as sa, ResultsStore(args.b, read_only=True) as sb:
         ra = {ident(r): r for r in sa.rows()}
@@ -44,7 +47,7 @@ def main() -> None:
             why = []
             if x["status"] != y["status"]:
                 why.append(f"status {x['status']} vs {y['status']}")
-            for name in sorted(set(x["metrics"]) | set(y["metrics"])):
+            for name in sorted((set(x["metrics"]) | set(y["metrics"])) - ignored):
                 if not same_number(x["metrics"].get(name, np.nan), y["metrics"].get(name, np.nan)):
                     why.append(f"metric {name}")
             ta, tb = sa.timeseries(x["key"]), sb.timeseries(y["key"])
@@ -55,8 +58,9 @@ def main() -> None:
             if why:
                 differing += 1
                 print(f"{x['method']} {x['instance']} seed {x['seed']}: " + ", ".join(why))
+        skipped = f"; not compared: {', '.join(sorted(ignored))}" if ignored else ""
         print(f"{len(shared)} shared trials, {differing} differ "
-              f"(metrics, status and every series value compared exactly)")
+              f"(metrics, status and every series value compared exactly{skipped})")
     sys.exit(1 if differing or not shared else 0)
 
 

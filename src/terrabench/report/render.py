@@ -87,6 +87,7 @@ class SceneRenderer:
         self.camera = mujoco.MjvCamera()
         self.camera.type = mujoco.mjtCamera.mjCAMERA_FREE
         self.camera.azimuth, self.camera.elevation = azimuth, elevation
+        self.elevation = elevation
         self.distance = distance
         self.context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.context)
@@ -106,6 +107,7 @@ class SceneRenderer:
             self.distance = max(1.5, 3.5 * float(spread))
         self.camera.lookat[:] = centre
         self.camera.distance = self.distance
+        self.camera.elevation = self._clear_elevation(data, centre)
         mujoco.mjv_updateScene(self.model, data, self.option, None, self.camera,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)
         mujoco.mjr_render(self.rect, self.scene, self.context)
@@ -113,6 +115,22 @@ class SceneRenderer:
         mujoco.mjr_readPixels(rgb, None, self.rect, self.context)
         frame = np.flipud(rgb)
         return draw_text(frame, text) if text else np.ascontiguousarray(frame)
+
+    def _clear_elevation(self, data: mujoco.MjData, centre: np.ndarray, clearance: float = 0.3) -> float:
+        """The set elevation, steepened in 10 deg steps (to -85) while the camera would sit inside
+        the ground (a hill between the camera and a robot in a valley renders black)."""
+        az = np.radians(self.camera.azimuth)
+        geomid = np.zeros(1, np.int32)
+        el = self.elevation
+        while el > -85.0:
+            e = np.radians(el)
+            cam = centre - self.distance * np.array([np.cos(e) * np.cos(az), np.cos(e) * np.sin(az), np.sin(e)])
+            top = np.array([cam[0], cam[1], centre[2] + 100.0])
+            hit = mujoco.mj_ray(self.model, data, top, np.array([0.0, 0.0, -1.0]), None, 1, -1, geomid)
+            if hit < 0 or top[2] - hit + clearance <= cam[2]:
+                break
+            el -= 10.0
+        return el
 
     def close(self) -> None:
         """Free the GL resources (the renderer cannot be used afterwards)."""

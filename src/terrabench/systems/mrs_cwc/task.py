@@ -76,7 +76,14 @@ class MRSTask(TaskBase):
         pr = self.cfg.protocol
         self.obs = Observation(model, data, n, pr.target_xy)
         self._has_servo = len(self.yaw_servos) > 0
-        self._err_max = self.cfg.chain.wheel_torque_limit / self.cfg.chain.wheel_kv
+        ch = self.cfg.chain
+        self._constraint_drive = ch.wheel_drive == "constraint"
+        if self._constraint_drive:
+            a = int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
+            self._ref_vel = data.qvel[a : a + 2 * n].reshape(n, 2)
+            self._err_max = float("inf")
+        else:
+            self._err_max = ch.wheel_torque_limit / ch.wheel_kv
         self._target = pr.target_xy
         self._thr2 = pr.success_threshold ** 2
         return self.obs
@@ -99,9 +106,13 @@ class MRSTask(TaskBase):
 
     def apply(self, cmd: ctl.Command) -> None:
         d, obs = self.data, self.obs
-        # the drive's torque limit, applied to the speed error the servo sees
-        ws, err = obs.wheel_speed, self._err_max
-        d.ctrl[self.wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, ws - err), ws + err)
+        if self._constraint_drive:
+            # the velocity constraint's reference; its frictionloss is the torque limit
+            np.negative(cmd.wheel_speed, out=self._ref_vel)
+        else:
+            # the drive's torque limit, applied to the speed error the servo sees
+            ws, err = obs.wheel_speed, self._err_max
+            d.ctrl[self.wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, ws - err), ws + err)
         if cmd.yaw_stiffness is not None:
             self.model.jnt_stiffness[self.yaw_joints] = cmd.yaw_stiffness
         if self._has_servo:

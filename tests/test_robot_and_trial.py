@@ -204,3 +204,24 @@ def test_constraint_drive_is_stable_on_a03_for_30_s(mid):
     assert r.metrics["NCR"] > 0.1  # it drives toward the target (2.25 m at 0.075 m/s = 0.18)
     power = r.metrics["energy"] / r.metrics["sim_time"]
     assert 0.5 < power < 100.0
+
+
+# ---------------------------------------------------------------- the opt-in stall stop
+def test_a_chain_that_cannot_move_stops_as_stuck_only_when_asked(flat_terrain):
+    still = {"drive.wheel_speed": 0.0, "protocol.timeout": 20.0}
+    r = trial.run(get_method("cs-tdt"), flat_terrain, override(MRSConfig(), still))
+    assert r.status == "timeout"  # off by default
+    cfg = override(MRSConfig(), {**still, "protocol.stall_time": 5.0})
+    r = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
+    assert r.status == "stuck"
+    assert 5.0 <= r.metrics["sim_time"] <= 6.0  # first slow check at t = 0, then every 0.5 s
+
+
+def test_a_moving_chain_is_never_stuck(flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.timeout": 20.0, "protocol.stall_time": 5.0})
+    assert trial.run(get_method("cwc-tdt"), flat_terrain, cfg).status == "timeout"
+
+
+def test_stall_time_must_not_be_negative():
+    with pytest.raises(ValueError, match="stall_time"):
+        override(MRSConfig(), {"protocol.stall_time": -1.0})

@@ -1,13 +1,12 @@
 """NSR (with a 95 % Wilson interval), NCR and NEF per method from one or more result stores.
 
-Usage: python benchmarks/sample_table.py /tmp/fid_base.duckdb /tmp/fid_cand.duckdb
+Usage: python benchmarks/sample_table.py /tmp/fid_base.duckdb /tmp/fid_cand.duckdb [--instances B-01..B-16]
 """
 
 from __future__ import annotations
 
 import json
 import math
-import sys
 
 import duckdb
 
@@ -22,14 +21,32 @@ def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
     return c - h, c + h
 
 
+def _instances(spec: str | None) -> set[str] | None:
+    if not spec:
+        return None
+    if ".." in spec:
+        a, b = spec.split("..")
+        g = a.split("-")[0]
+        return {f"{g}-{i:02d}" for i in range(int(a.split("-")[1]), int(b.split("-")[1]) + 1)}
+    return set(spec.split(","))
+
+
 def main() -> None:
+    import argparse
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("stores", nargs="+")
+    ap.add_argument("--instances", default=None, help="comma list or range, e.g. B-01..B-16")
+    args = ap.parse_args()
+    keep = _instances(args.instances)
     print(f"{'store':28} {'method':8} {'n':>3} {'NSR %':>6} {'95 % CI':>10} {'NCR %':>6} {'NEF':>6}  statuses")
-    for path in sys.argv[1:]:
+    for path in args.stores:
         con = duckdb.connect(path, read_only=True)
-        rows = con.execute("select method, status, metrics from trials order by method, instance").fetchall()
+        rows = con.execute("select method, instance, status, metrics from trials order by method, instance").fetchall()
         by: dict[str, list] = {}
-        for m, st, met in rows:
-            by.setdefault(m, []).append((st, json.loads(met)))
+        for m, inst, st, met in rows:
+            if keep is None or inst in keep:
+                by.setdefault(m, []).append((st, json.loads(met)))
         for m, trials in by.items():
             n = len(trials)
             k = sum(1 for st, _ in trials if st == "success")

@@ -225,3 +225,21 @@ def test_a_moving_chain_is_never_stuck(flat_terrain):
 def test_stall_time_must_not_be_negative():
     with pytest.raises(ValueError, match="stall_time"):
         override(MRSConfig(), {"protocol.stall_time": -1.0})
+
+
+RIGID = {"chain.wheel_drive": "constraint", "chain.noslip_iterations": 10,
+         "chain.wheel_solref": [0.01, 1.0], "chain.wheel_solimp": [0.99, 0.999, 0.001, 0.5, 2.0]}
+
+
+def test_rigid_contacts_make_linked_units_fight_but_not_free_units():
+    """The released gentle-ground signature (docs/mrs-cwc-findings.md): on A-03 a linked
+    chain spends ~18 W, six free units ~2 W; soft MuJoCo contacts give ~2-3 W to both."""
+    def power(mid, sets):
+        cfg = override(MRSConfig(), {**sets, "protocol.timeout": 40.0})
+        r = trial.run(get_method(mid), dataset.get("A-03"), cfg)
+        assert r.status == "timeout", r.info["reason"]
+        return r.metrics["energy"] / r.metrics["sim_time"]
+
+    assert power("cs-tdt", RIGID) > 10.0
+    assert power("d-tdt", RIGID) < 4.0
+    assert power("cs-tdt", {}) < 5.0

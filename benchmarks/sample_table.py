@@ -37,16 +37,22 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("stores", nargs="+")
     ap.add_argument("--instances", default=None, help="comma list or range, e.g. B-01..B-16")
+    ap.add_argument("--seeds", default=None, help="comma list of seeds to keep (default: all)")
     args = ap.parse_args()
     keep = _instances(args.instances)
     print(f"{'store':28} {'method':8} {'n':>3} {'NSR %':>6} {'95 % CI':>10} {'NCR %':>6} {'NEF':>6}  statuses")
     for path in args.stores:
         con = duckdb.connect(path, read_only=True)
-        rows = con.execute("select method, instance, status, metrics from trials order by method, instance").fetchall()
+        rows = con.execute("select method, instance, seed, status, metrics from trials "
+                           "order by method, instance, seed, finished_at").fetchall()
+        seeds = None if args.seeds is None else {int(x) for x in args.seeds.split(",")}
+        latest: dict[tuple, tuple] = {}  # a trial stored under two config versions: the newest
+        for m, inst, seed, st, met in rows:
+            if (keep is None or inst in keep) and (seeds is None or seed in seeds):
+                latest[(m, inst, seed)] = (st, json.loads(met))
         by: dict[str, list] = {}
-        for m, inst, st, met in rows:
-            if keep is None or inst in keep:
-                by.setdefault(m, []).append((st, json.loads(met)))
+        for (m, _, _), v in sorted(latest.items()):
+            by.setdefault(m, []).append(v)
         for m, trials in by.items():
             n = len(trials)
             k = sum(1 for st, _ in trials if st == "success")

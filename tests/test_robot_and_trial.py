@@ -135,3 +135,111 @@ def test_a_unit_that_fell_off_the_world_stops_colliding_and_is_parked(flat_terra
     assert np.all(m.geom_contype[sc.unit_geoms[3]] == 0) and np.all(m.geom_conaffinity[sc.unit_geoms[3]] == 0)
     assert d.qpos[m.jnt_qposadr[j] + 2] == -60.0 and np.all(d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + 6] == 0)
     assert np.all(m.geom_conaffinity[sc.unit_geoms[2]] != 0)  # the others still collide
+
+
+# ---------------------------------------------------------------- the constraint wheel drive
+def _one_unit_constraint_drive(**kw):
+    """One free unit with the Bullet-like drive, no gravity; (model, data, wheel dof, ref dof)."""
+    from dataclasses import replace
+
+    from terrabench.systems.mrs_cwc.robot import Names
+
+    spec = mujoco.MjSpec()
+    spec.option.timestep = 0.005
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.gravity = [0, 0, 0]
+    add_chain(spec, "none", (0, 0, 1.0), replace(ChainConfig(wheel_drive="constraint", **kw), n_units=1))
+    m = spec.compile()
+    return m, mujoco.MjData(m), m.jnt_dofadr[m.joint(Names.wheel(0, "left")).id], \
+        m.jnt_dofadr[m.joint(Names.drive_ref(0, "left")).id]
+
+
+@pytest.mark.parametrize("load", [0.0, 20.0, 60.0, 95.0])
+def test_constraint_drive_holds_the_commanded_speed_up_to_its_torque_limit(load):
+    m, d, w, ref = _one_unit_constraint_drive()
+    free = m.jnt_dofadr[m.joint("unit0_free").id]
+    for _ in range(400):  # 2 s, the unit's body held still
+        d.qvel[ref:ref + 2] = -1.5
+        d.qvel[free:free + 6] = 0.0
+        d.qfrc_applied[w] = -load
+        mujoco.mj_step(m, d)
+    assert d.qvel[w] == pytest.approx(1.5, abs=3e-4 * load + 1e-6)  # ~4000 N m s/rad
+    assert d.qfrc_constraint[ref] == pytest.approx(load, abs=1e-3)  # the reported wheel torque
+
+
+def test_constraint_drive_slips_at_its_torque_limit():
+    m, d, w, ref = _one_unit_constraint_drive()
+    free = m.jnt_dofadr[m.joint("unit0_free").id]
+    for _ in range(40):
+        d.qvel[ref:ref + 2] = -1.5
+        d.qvel[free:free + 6] = 0.0
+        d.qfrc_applied[w] = -130.0
+        mujoco.mj_step(m, d)
+    assert d.qvel[w] < 0  # 130 N m > 100 N m: the wheel is dragged backwards
+    assert d.qfrc_constraint[ref] == pytest.approx(100.0, abs=1e-6)
+
+
+def test_constraint_drive_six_free_units_in_the_air_track_their_command():
+    """nv = 60 (MRS-D): MuJoCo's sparse Jacobian solved these tendons wrongly; we force dense."""
+    from terrabench.systems.mrs_cwc.robot import Names
+
+    spec = mujoco.MjSpec()
+    spec.option.gravity = [0, 0, 0]
+    add_chain(spec, "none", (0, 0, 10.0), ChainConfig(wheel_drive="constraint"))
+    m = spec.compile()
+    d = mujoco.MjData(m)
+    ref = m.jnt_dofadr[m.joint(Names.drive_ref(0, "left")).id]
+    wheels = [m.jnt_dofadr[m.joint(Names.wheel(k, s)).id] for k in range(6) for s in Names.SIDES]
+    for _ in range(200):
+        d.qvel[ref:ref + 12] = -1.5
+        mujoco.mj_step(m, d)
+    np.testing.assert_allclose(d.qvel[wheels], 1.5, atol=1e-3)
+
+
+@pytest.mark.parametrize("mid", ["cwc-tdt", "mj-tdt", "d-tdt"])
+def test_constraint_drive_is_stable_on_a03_for_30_s(mid):
+    cfg = override(MRSConfig(), {"chain.wheel_drive": "constraint", "protocol.timeout": 30.0})
+    r = trial.run(get_method(mid), dataset.get("A-03"), cfg)
+    assert r.status == "timeout", r.info["reason"]
+    assert r.metrics["NCR"] > 0.1  # it drives toward the target (2.25 m at 0.075 m/s = 0.18)
+    power = r.metrics["energy"] / r.metrics["sim_time"]
+    assert 0.5 < power < 100.0
+
+
+# ---------------------------------------------------------------- the opt-in stall stop
+def test_a_chain_that_cannot_move_stops_as_stuck_only_when_asked(flat_terrain):
+    still = {"drive.wheel_speed": 0.0, "protocol.timeout": 20.0}
+    r = trial.run(get_method("cs-tdt"), flat_terrain, override(MRSConfig(), still))
+    assert r.status == "timeout"  # off by default
+    cfg = override(MRSConfig(), {**still, "protocol.stall_time": 5.0})
+    r = trial.run(get_method("cs-tdt"), flat_terrain, cfg)
+    assert r.status == "stuck"
+    assert 5.0 <= r.metrics["sim_time"] <= 6.0  # first slow check at t = 0, then every 0.5 s
+
+
+def test_a_moving_chain_is_never_stuck(flat_terrain):
+    cfg = override(MRSConfig(), {"protocol.timeout": 20.0, "protocol.stall_time": 5.0})
+    assert trial.run(get_method("cwc-tdt"), flat_terrain, cfg).status == "timeout"
+
+
+def test_stall_time_must_not_be_negative():
+    with pytest.raises(ValueError, match="stall_time"):
+        override(MRSConfig(), {"protocol.stall_time": -1.0})
+
+
+RIGID = {"chain.wheel_drive": "constraint", "chain.noslip_iterations": 10,
+         "chain.wheel_solref": [0.01, 1.0], "chain.wheel_solimp": [0.99, 0.999, 0.001, 0.5, 2.0]}
+
+
+def test_rigid_contacts_make_linked_units_fight_but_not_free_units():
+    """The released gentle-ground signature (docs/mrs-cwc-findings.md): on A-03 a linked
+    chain spends ~18 W, six free units ~2 W; soft MuJoCo contacts give ~2-3 W to both."""
+    def power(mid, sets):
+        cfg = override(MRSConfig(), {**sets, "protocol.timeout": 40.0})
+        r = trial.run(get_method(mid), dataset.get("A-03"), cfg)
+        assert r.status == "timeout", r.info["reason"]
+        return r.metrics["energy"] / r.metrics["sim_time"]
+
+    assert power("cs-tdt", RIGID) > 10.0
+    assert power("d-tdt", RIGID) < 4.0
+    assert power("cs-tdt", {}) < 5.0

@@ -37,6 +37,14 @@ class ProtocolConfig:
         divergence_check_period: how often the state is checked for blow-up (s).
         start_jitter: seeds > 0 shift the start uniformly by up to this much in x and y (m);
             seed 0 is the released protocol exactly.
+        stall_time: opt-in early stop (0 = off, the default): status ``stuck`` once the leader
+            has moved less than ``stall_distance`` from where it last moved and d_min (the
+            closest it has come to the target, which alone fixes NCR and success) has not
+            improved by ``stall_distance`` for this long (s). Checked every
+            ``divergence_check_period``. A stopped trial keeps the NCR it had; a chain that
+            stood still this long may in principle still break free later, so this changes
+            outcomes and is off by default (documented in docs/mrs-cwc-findings.md).
+        stall_distance: the movement / d_min improvement that counts as progress (m).
     """
 
     start_xy: tuple[float, float] = (0.0, 0.0)
@@ -50,11 +58,16 @@ class ProtocolConfig:
     log_period: float = 0.1
     divergence_check_period: float = 0.5
     start_jitter: float = 0.05
+    stall_time: float = 0.0
+    stall_distance: float = 0.05
 
     def __post_init__(self) -> None:
         check_finite_positive("timeout", self.timeout, "simulated seconds")
         check_finite_positive("success threshold", self.success_threshold, "m")
         check_finite_positive("control period", self.control_period, "s")
+        if not (self.stall_time >= 0 and self.stall_distance > 0):
+            raise ValueError(f"stall_time must be >= 0 (0 = off) and stall_distance > 0, got "
+                             f"{self.stall_time!r}, {self.stall_distance!r}")
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from typing import Protocol
 
 import numpy as np
 
-from terrabench.systems.mrs_cwc.sensing import Observation, wrap
+from terrabench.systems.mrs_cwc.sensing import Observation, wrap, wrap_scalar
 
 STIFFNESS_MODES = ("released", "eq12", "constant")
 
@@ -207,9 +207,14 @@ class BodyLaw(Protocol):
     tau_env: float
 
 
+_LR = np.array([-1.0, 1.0])
+
+
 def _differential(cmd: Command, errors: np.ndarray, drive: DriveConfig) -> None:
-    cmd.wheel_speed[:, 0] = drive.wheel_speed - drive.turn_gain * errors
-    cmd.wheel_speed[:, 1] = drive.wheel_speed + drive.turn_gain * errors
+    """wheel_speed[:, 0] = v - g e, [:, 1] = v + g e, in place (v + (-g e) == v - g e exactly)."""
+    ws = cmd.wheel_speed
+    np.multiply(np.multiply(errors, drive.turn_gain)[:, None], _LR, out=ws)
+    ws += drive.wheel_speed
 
 
 class CWCLaw:
@@ -225,11 +230,13 @@ class CWCLaw:
 
     def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
         e = self._errors
-        e[0] = wrap(heading_ref - obs.yaw[0])
-        e[1:] = wrap(obs.yaw[:-1] - obs.yaw[1:])
+        yaw = obs.yaw
+        e0 = wrap_scalar(heading_ref - float(yaw[0]))
+        e[0] = e0
+        e[1:] = wrap(yaw[:-1] - yaw[1:])
         _differential(cmd, e, self.drive)
-        tq = obs.wheel_torque[0]
-        cmd.yaw_stiffness = self.law.update(float(e[0]), float(obs.yaw_rate[0]), float(tq[0]), float(tq[1]), float(obs.joint_yaw[0]))
+        tl, tr = obs.wheel_torque[0].tolist()
+        cmd.yaw_stiffness = self.law.update(e0, float(obs.yaw_rate[0]), tl, tr, float(obs.joint_yaw[0]))
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,8 @@ import numpy as np
 from terrabench.terrain.mjcf import GROUND_BIT
 
 LINK_VARIANTS = ("spring", "motor", "none")
+#: How the wheel motors are realised (``ChainConfig.wheel_drive``).
+WHEEL_DRIVES = ("servo", "constraint")
 #: Yaw hinges turn about -z so that the joint angle is (predecessor yaw - follower yaw): the
 #: "relative yaw between robot k and robot k+1" of the stiffness law, and a positive MJ command
 #: bends the chain's front to the left.
@@ -48,6 +50,27 @@ class ChainConfig:
         wheel_torque_limit: (N m); enforced by the trial loop on the commanded speed error
             (a hard clamp inside MuJoCo turns the 0.002 kg m^2 wheels into a bang-bang
             oscillator: 100 N m x 5 ms / 0.002 kg m^2 = 250 rad/s per step).
+        wheel_drive: ``"servo"`` (default): a MuJoCo velocity actuator ``tau = wheel_kv (w_cmd -
+            w)`` with the limit applied by the loop. ``"constraint"``: Bullet's motor, a velocity
+            constraint solved with the contacts that holds ``w = w_cmd`` with any torque up to
+            ``wheel_torque_limit`` and slips at that torque beyond it. Realised as a fixed tendon
+            ``q_wheel + q_ref`` with frictionloss ``wheel_torque_limit``, where ``q_ref`` is a
+            massless-to-the-chain reference hinge in the world (armature ``drive_ref_armature``)
+            whose speed the trial sets to ``-w_cmd`` every control period; the wheel torque is
+            the tendon's constraint force (``qfrc_constraint`` of the reference dof).
+            docs/mrs-cwc-findings.md, "Calibration against the released logs".
+        drive_solref, drive_solimp: softness of that velocity constraint. The creep under a
+            load torque T on a free wheel is about T (1-d)/d / (I_w b), with b = 2/(d timeconst):
+            d = 0.9999 and timeconst 0.01 s (2 physics steps, MuJoCo's stiffest safe value)
+            give ~0.0003 rad/s per N m, i.e. a servo of ~4000 N m s/rad, solved implicitly.
+        drive_ref_armature: inertia of each reference hinge (kg m^2); 100 N m for a control
+            period moves it by 100 x 0.025 / 1e4 = 2.5e-4 rad/s.
+        wheel_solref, wheel_solimp: the wheel-ground contact's softness (MuJoCo's defaults). A soft
+            contact lets a wheel creep tangentially at a speed proportional to its friction force;
+            Bullet's static friction does not creep.
+        noslip_iterations: MuJoCo's noslip post-solver iterations for this scene (0 = off): it
+            removes the creep of all friction rows (contacts and the drive tendons), making
+            static friction hard as in Bullet's sequential-impulse solver.
         bumper_radius, bumper_thickness, bumper_mass, bumper_ahead, bumper_up: the leader's disc.
         link_mass_spring: each of the two link masses of the spring variant (kg).
         link_mass_motor: the link mass of the motor variant (kg).
@@ -79,6 +102,13 @@ class ChainConfig:
     wheel_friction: float = 2.0
     wheel_kv: float = 100.0 / 1.5
     wheel_torque_limit: float = 100.0
+    wheel_drive: str = "servo"
+    drive_solref: tuple[float, float] = (0.01, 1.0)
+    drive_solimp: tuple[float, float, float, float, float] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+    drive_ref_armature: float = 1e4
+    wheel_solref: tuple[float, float] = (0.02, 1.0)
+    wheel_solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    noslip_iterations: int = 0
     bumper_radius: float = 0.09
     bumper_thickness: float = 0.02
     bumper_mass: float = 2.8
@@ -92,6 +122,10 @@ class ChainConfig:
     link_damping: float = 0.5
     yaw_kp: float = 50.0
     yaw_kv: float = 5.0
+
+    def __post_init__(self) -> None:
+        if self.wheel_drive not in WHEEL_DRIVES:
+            raise ValueError(f"unknown wheel drive {self.wheel_drive!r}; valid: {', '.join(WHEEL_DRIVES)}")
 
 
 class Names:
@@ -115,6 +149,9 @@ class Names:
         return f"link{k}_{axis}"
 
     yaw_servo = staticmethod(lambda k: f"link{k}_yaw_servo")
+    #: reference hinge and coupling tendon of a wheel under ``wheel_drive="constraint"``
+    drive_ref = staticmethod(lambda k, side: f"unit{k}_drive_ref_{side}")
+    drive_tendon = staticmethod(lambda k, side: f"unit{k}_drive_{side}")
     SIDES = ("left", "right")
 
 
@@ -153,6 +190,8 @@ def _unit_body(parent: mujoco.MjsBody, k: int, pos, cfg: ChainConfig, leader: bo
             condim=3,
             priority=1,
             friction=[cfg.wheel_friction, 0.005, 0.0001],
+            solref=list(cfg.wheel_solref),
+            solimp=list(cfg.wheel_solimp),
             rgba=[0.1, 0.1, 0.1, 1],
         )
     if leader:
@@ -232,8 +271,38 @@ def add_chain(
                 target=Names.wheel(k, side),
                 trntype=mujoco.mjtTrn.mjTRN_JOINT,
             )
-            act.set_to_velocity(kv=cfg.wheel_kv)
+            act.set_to_velocity(kv=cfg.wheel_kv if cfg.wheel_drive == "servo" else 0.0)
+    if cfg.wheel_drive == "constraint":
+        _add_constraint_drive(spec, cfg)
+    if cfg.noslip_iterations:
+        spec.option.noslip_iterations = cfg.noslip_iterations
     _add_sensors(spec, variant, cfg)
+
+
+def _add_constraint_drive(spec: mujoco.MjSpec, cfg: ChainConfig) -> None:
+    """Bullet-like wheel motors: per wheel a world reference hinge and a friction tendon.
+
+    The tendon length is ``q_wheel + q_ref`` (the reference turns about -y), so holding its
+    rate at 0 holds the wheel at ``-qvel_ref``; its frictionloss caps the holding torque at the
+    motor limit. The reference bodies come after the chain, so their dofs are the last
+    ``2 n_units`` dofs, in (unit, left/right) order.
+    """
+    # MuJoCo 4.0 picks the sparse Jacobian from nv >= 60 (MRS-D with this drive); with it these
+    # cross-tree friction tendons are solved wrongly (six free units in the air, no contact:
+    # wheels at 280 rad/s against 1.5 commanded; dense: 1.5). Dense is exact and fast enough.
+    spec.option.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
+    for k in range(cfg.n_units):
+        for side in Names.SIDES:
+            ref = spec.worldbody.add_body(name=Names.drive_ref(k, side))
+            _small_mass(ref, 1.0)
+            j = ref.add_joint(name=Names.drive_ref(k, side), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, -1, 0])
+            j.armature = cfg.drive_ref_armature
+            ten = spec.add_tendon(name=Names.drive_tendon(k, side))
+            ten.frictionloss = cfg.wheel_torque_limit
+            ten.solref_friction = list(cfg.drive_solref)
+            ten.solimp_friction = list(cfg.drive_solimp)
+            ten.wrap_joint(Names.wheel(k, side), 1.0)
+            ten.wrap_joint(Names.drive_ref(k, side), 1.0)
 
 
 def _add_sensors(spec: mujoco.MjSpec, variant: str, cfg: ChainConfig) -> None:

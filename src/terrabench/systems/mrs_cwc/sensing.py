@@ -15,9 +15,17 @@ import numpy as np
 from terrabench.systems.mrs_cwc.robot import Names
 
 
+_TWO_PI = 2 * np.pi
+
+
 def wrap(a: float | np.ndarray) -> float | np.ndarray:
     """Wrap angles to (-pi, pi] (rad)."""
-    return np.pi - np.mod(np.pi - a, 2 * np.pi)
+    return np.pi - np.mod(np.pi - a, _TWO_PI)
+
+
+def wrap_scalar(a: float) -> float:
+    """:func:`wrap` for one Python float, bitwise equal to it (``%`` is numpy's ``mod``)."""
+    return math.pi - (math.pi - a) % _TWO_PI
 
 
 class Observation:
@@ -35,12 +43,13 @@ class Observation:
         yaw_speed: yaw-joint speeds of the MJ variant, (n-1,) (rad/s); empty otherwise.
         target_bearing: world bearing from the leader to the target (rad).
         target_distance: horizontal leader-target distance (m).
+        target_d2: its square, dx^2 + dy^2 (m^2).  leader_z: leader height (m).
     """
 
     __slots__ = (
         "t", "pos", "xaxis", "angvel", "yaw", "yaw_rate", "wheel_speed", "wheel_torque",
         "joint_yaw", "yaw_torque", "yaw_speed", "target_bearing", "target_distance",
-        "_data", "_target",
+        "target_d2", "leader_z", "_data", "_target",
     )
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, n_units: int, target_xy: tuple[float, float]):
@@ -51,8 +60,14 @@ class Observation:
         self.pos, self.xaxis, self.angvel = per_unit[:, 0:3], per_unit[:, 3:6], per_unit[:, 6:9]
         a = adr(f"{Names.wheel(0, 'left')}_vel")
         self.wheel_speed = sd[a : a + 2 * n_units].reshape(n_units, 2)
-        a = adr(f"{Names.motor(0, 'left')}_torque")
-        self.wheel_torque = sd[a : a + 2 * n_units].reshape(n_units, 2)
+        if self._has_joint(model, Names.drive_ref(0, "left")):
+            # constraint drive (ChainConfig.wheel_drive): the wheel torque is the friction
+            # tendon's force, i.e. the constraint force on the (otherwise free) reference dof
+            a = int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
+            self.wheel_torque = data.qfrc_constraint[a : a + 2 * n_units].reshape(n_units, 2)
+        else:
+            a = adr(f"{Names.motor(0, 'left')}_torque")
+            self.wheel_torque = sd[a : a + 2 * n_units].reshape(n_units, 2)
         self.joint_yaw = self._block(model, sd, f"{Names.link_joint(1, 'yaw')}_angle", n_units - 1)
         if model.nsensor and self._has(model, f"{Names.yaw_servo(1)}_torque"):
             tq = self._block(model, sd, f"{Names.yaw_servo(1)}_torque", 2 * (n_units - 1))
@@ -63,6 +78,14 @@ class Observation:
         self._data = data
         self._target = target_xy
         self.refresh()
+
+    @staticmethod
+    def _has_joint(model: mujoco.MjModel, name: str) -> bool:
+        try:
+            model.joint(name)
+            return True
+        except KeyError:
+            return False
 
     @staticmethod
     def _has(model: mujoco.MjModel, name: str) -> bool:
@@ -83,9 +106,10 @@ class Observation:
         ax = self.xaxis
         self.yaw = np.arctan2(ax[:, 1], ax[:, 0])  # equals the Z-Y-X yaw of the unit
         self.t = self._data.time
-        px, py = self.pos[0, 0], self.pos[0, 1]
+        px, py, self.leader_z = self.pos[0].tolist()
         dx = self._target[0] - px
         dy = self._target[1] - py
         self.target_bearing = math.atan2(dy, dx)
         self.target_distance = math.hypot(dx, dy)
+        self.target_d2 = dx * dx + dy * dy
         return self

@@ -7,6 +7,8 @@ truncates it. Metrics are the benchmark's NCR, NEF, NEC from the leader's path (
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -76,9 +78,26 @@ class MRSTask(TaskBase):
         pr = self.cfg.protocol
         self.obs = Observation(model, data, n, pr.target_xy)
         self._has_servo = len(self.yaw_servos) > 0
-        self._err_max = self.cfg.chain.wheel_torque_limit / self.cfg.chain.wheel_kv
+        ch = self.cfg.chain
+        self._constraint_drive = ch.wheel_drive == "constraint"
+        if self._constraint_drive:
+            a = int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
+            self._ref_vel = data.qvel[a : a + 2 * n].reshape(n, 2)
+            self._err_max = float("inf")
+        else:
+            self._err_max = ch.wheel_torque_limit / ch.wheel_kv
         self._target = pr.target_xy
         self._thr2 = pr.success_threshold ** 2
+        a = int(self.wheel_act[0, 0])
+        if np.array_equal(self.wheel_act.ravel(), np.arange(a, a + 2 * n)):  # always, by construction
+            self._wheel_ctrl = data.ctrl[a : a + 2 * n].reshape(n, 2)  # a view: no fancy indexing
+        else:
+            self._wheel_ctrl = None
+        self._power_buf = np.zeros((n, 2))
+        # the opt-in stall stop (protocol.stall_time)
+        self._stall_time = pr.stall_time
+        self._stall_since = 0.0
+        self._stall_ref = None
         return self.obs
 
     # ------------------------------------------------------------------ loop
@@ -86,22 +105,52 @@ class MRSTask(TaskBase):
         return self.obs.refresh()
 
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
-        pr = self.cfg.protocol
-        p = obs.pos[0]
-        tx, ty = self._target
-        if (p[0] - tx) ** 2 + (p[1] - ty) ** 2 < self._thr2:
+        if obs.target_d2 < self._thr2:
+            pr = self.cfg.protocol
             return "success", f"leader within {pr.success_threshold} m of the target"
-        if p[2] < pr.fall_z:
+        if obs.leader_z < self.cfg.protocol.fall_z:
+            pr = self.cfg.protocol
             return "fell", f"leader below z = {pr.fall_z} m"
         if slow:
-            self.drop_fallen_units(pr.fall_z)
+            self.drop_fallen_units(self.cfg.protocol.fall_z)
+            if self._stall_time > 0:
+                return self._stalled(obs)
+        return None
+
+    def _stalled(self, obs: Observation) -> tuple[str, str] | None:
+        """``stuck`` once the leader has neither moved ``stall_distance`` nor got closer to the
+        target than its best distance so far (d_min, which fixes NCR) for ``stall_time`` s.
+
+        Checked on the slow period only. NCR, NEF's numerator and success depend on d_min alone,
+        so a trial stopped here keeps its NCR; its journey, energy and NEC are those at the stop.
+        """
+        pr = self.cfg.protocol
+        d = obs.target_distance
+        xy = (float(obs.pos[0, 0]), float(obs.pos[0, 1]))
+        ref = self._stall_ref
+        if ref is None or math.hypot(xy[0] - ref[0], xy[1] - ref[1]) > pr.stall_distance \
+                or d < ref[2] - pr.stall_distance:
+            self._stall_ref = (xy[0], xy[1], min(d, ref[2]) if ref is not None else d)
+            self._stall_since = obs.t
+            return None
+        if obs.t - self._stall_since >= self._stall_time:
+            return "stuck", (f"leader moved < {pr.stall_distance} m and d_min did not improve for "
+                             f"{self._stall_time:g} s")
         return None
 
     def apply(self, cmd: ctl.Command) -> None:
         d, obs = self.data, self.obs
-        # the drive's torque limit, applied to the speed error the servo sees
-        ws, err = obs.wheel_speed, self._err_max
-        d.ctrl[self.wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, ws - err), ws + err)
+        if self._constraint_drive:
+            # the velocity constraint's reference; its frictionloss is the torque limit
+            np.negative(cmd.wheel_speed, out=self._ref_vel)
+        else:
+            # the drive's torque limit, applied to the speed error the servo sees
+            ws, err = obs.wheel_speed, self._err_max
+            out = self._wheel_ctrl
+            if out is None:
+                d.ctrl[self.wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, ws - err), ws + err)
+            else:
+                np.minimum(np.maximum(cmd.wheel_speed, ws - err, out=out), ws + err, out=out)
         if cmd.yaw_stiffness is not None:
             self.model.jnt_stiffness[self.yaw_joints] = cmd.yaw_stiffness
         if self._has_servo:
@@ -115,7 +164,9 @@ class MRSTask(TaskBase):
         return p[0], p[1], p[2], k, cmd.tau_env
 
     def power(self, obs: Observation) -> float:
-        power = np.abs(obs.wheel_torque * obs.wheel_speed).sum()
+        buf = self._power_buf
+        np.multiply(obs.wheel_torque, obs.wheel_speed, out=buf)
+        power = np.abs(buf, out=buf).sum()
         if self._has_servo:
             power += np.abs(obs.yaw_torque * obs.yaw_speed).sum()
         return power

@@ -95,15 +95,16 @@ def _replay(task: Any, commands: list[tuple[np.ndarray, list[np.ndarray]]]) -> f
 def perf_table(system_id: str, rows: list[dict]):
     from rich.table import Table
 
-    t = Table(title=f"{system_id} speed: the episode loop vs raw mj_step replaying the same commands")
-    for c in ("instance", "method", "raw steps/s", "raw RTF", "loop steps/s", "loop RTF", "loop/raw", "mj_step share of loop"):
+    methods = ", ".join(sorted({r["method"] for r in rows}))
+    t = Table(title=f"{system_id} ({methods}) speed: the episode loop vs raw mj_step replaying the same commands")
+    for c in ("instance", "raw steps/s", "raw RTF", "loop steps/s", "loop RTF", "loop/raw", "mj_step share of loop"):
         t.add_column(c, justify="right")
     for r in rows:
-        t.add_row(r["instance"], r["method"], f"{r['raw_steps_per_s']:.0f}", f"{r['raw_rtf']:.0f}", f"{r['loop_steps_per_s']:.0f}",
+        t.add_row(r["instance"], f"{r['raw_steps_per_s']:.0f}", f"{r['raw_rtf']:.0f}", f"{r['loop_steps_per_s']:.0f}",
                   f"{r['loop_rtf']:.0f}", f"{r['loop_over_raw']:.2f}", f"{100 * r['engine_share']:.0f} %")
     mean = lambda k: float(np.mean([r[k] for r in rows]))  # noqa: E731
     total_raw = sum(1 / r["raw_steps_per_s"] for r in rows)
     total_loop = sum(1 / r["loop_steps_per_s"] for r in rows)
-    t.add_row("mean", "", f"{mean('raw_steps_per_s'):.0f}", f"{mean('raw_rtf'):.0f}", f"{mean('loop_steps_per_s'):.0f}",
+    t.add_row("mean", f"{mean('raw_steps_per_s'):.0f}", f"{mean('raw_rtf'):.0f}", f"{mean('loop_steps_per_s'):.0f}",
               f"{mean('loop_rtf'):.0f}", f"{total_raw / total_loop:.2f}", f"{100 * mean('engine_share'):.0f} %")
     return t

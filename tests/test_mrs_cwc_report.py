@@ -78,3 +78,19 @@ def test_an_empty_store_says_what_to_run(tmp_path):
     with ResultsStore(tmp_path / "empty.duckdb") as st:
         with pytest.raises(ValueError, match="no mrs-cwc trials in .*terrabench run mrs-cwc"):
             write_report(st, tmp_path / "out")
+
+
+def test_seed_summary_pools_seeds_and_counts_flips():
+    from terrabench.systems.mrs_cwc.summary import seed_summary
+
+    def row(t, seed, ok):
+        return {"method": "cwc-tdt", "instance": t, "seed": seed, "status": "success" if ok else "timeout"}
+
+    outcomes = {"B-01": (1, 1), "B-02": (1, 0), "B-03": (0, 0), "B-04": (0, 1)}
+    rows = [row(t, k, ok) for t, oks in outcomes.items() for k, ok in enumerate(oks)]
+    rows.append(row("B-05", 0, 1))  # run with one seed only: left out
+    s = seed_summary(rows)[("cwc-tdt", "B")]
+    assert s["n_terrains"] == 4 and s["n_seeds"] == 2
+    assert s["NSR"] == 50.0 and s["flip_share"] == 50.0
+    assert 0.0 <= s["NSR_lo"] <= 50.0 <= s["NSR_hi"] <= 100.0
+    assert seed_summary(rows) == seed_summary(rows)  # deterministic bootstrap

@@ -47,7 +47,7 @@ from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
 from terrabench.systems.mrs_cwc.methods import METHODS, config_for  # noqa: E402
 from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
 from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, TRIALS_PER_GROUP, paper_row  # noqa: E402
-from terrabench.systems.mrs_cwc.summary import summaries  # noqa: E402
+from terrabench.systems.mrs_cwc.summary import seed_summary, summaries  # noqa: E402
 from terrabench.terrain import dataset  # noqa: E402
 
 #: The paper's table and figure for each terrain group.
@@ -125,6 +125,11 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
            "these stored rows (the A* waypoint comparison from the shipped terrain data). Paper: Xiao et al., "
            "MRS-CWC, Tables II/III and Figs. 5/6.")
 
+    seeded = [{**r, "method": vid[(r["method"], r["config_hash"])]} for r in rows
+              if (r["method"], r["config_hash"]) in vid]
+    if len({r["seed"] for r in seeded}) > 1:
+        _seeds_section(page, variants, seeded)
+
     page.h2("Tables II and III: ours beside the paper's")
     page.p(
         "Each cell: ours / the paper's (Table II or III of the paper, 50 terrains per group). "
@@ -180,6 +185,54 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
     page.raw(_provenance_html(store, rows, rows0, variants))
 
     return page.finish()
+
+
+SEED_COLUMNS = ("group", "method", "label", "n_terrains", "n_seeds", "NSR", "NSR_lo", "NSR_hi", "flip_share",
+                "NSR_paper")
+
+
+def seed_lines(variants: list[Variant], seeded: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One line per (group, variant): NSR over seeds with a terrain bootstrap CI, flip share."""
+    summ = seed_summary(seeded)
+    lines = []
+    for group in dataset.GROUPS:
+        for v in variants:
+            s = summ.get((v.id, group))
+            if s is None:
+                continue
+            paper = paper_row(group, v.method) or {}
+            lines.append({"group": group, "method": v.id, "label": v.label, **s,
+                          "NSR_paper": paper.get("NSR", float("nan"))})
+    return lines
+
+
+def _seeds_section(page: "Page", variants: list[Variant], seeded: list[dict[str, Any]]) -> None:
+    lines = seed_lines(variants, seeded)
+    if not lines:
+        return
+    page.h2("NSR over seeds (the primary figure when several seeds are stored)")
+    page.p("One trial per terrain, as in the paper, is a single draw of a chaotic system: seeds > 0 move "
+           "the start by up to 5 cm. Here each method's NSR is the success share over every (terrain, seed) "
+           "trial on the terrains run with all its seeds, with a 95 % bootstrap CI over terrains (a "
+           "terrain keeps its seeds together), and <i>flips</i> is the share of those terrains whose outcome "
+           "differs between seeds. The paper's NSR (one trial per terrain) is the black tick.")
+    page.csv("nsr_seeds.csv", lines, SEED_COLUMNS)
+    fig, axes = plt.subplots(1, len(dataset.GROUPS), figsize=(5.5 * len(dataset.GROUPS), 3.8), squeeze=False)
+    for ax, group in zip(axes[0], dataset.GROUPS):
+        sel = [ln for ln in lines if ln["group"] == group]
+        y = np.arange(len(sel))
+        nsr = np.array([ln["NSR"] for ln in sel])
+        err = np.array([[ln["NSR"] - ln["NSR_lo"] for ln in sel], [ln["NSR_hi"] - ln["NSR"] for ln in sel]])
+        ax.barh(y, nsr, xerr=err if len(sel) else None, color="#4c72b0", alpha=0.8, capsize=3)
+        ax.scatter([ln["NSR_paper"] for ln in sel], y, marker="|", s=200, color="k", zorder=3)
+        ax.set_yticks(y, [f"{ln['label']} (flips {ln['flip_share']:.0f} %)" for ln in sel], fontsize=7)
+        ax.set(xlim=(0, 100), xlabel="NSR % over seeds", title=f"group {group}")
+        ax.invert_yaxis()
+    fig.tight_layout()
+    page.figure(fig, "nsr_seeds.png", "NSR over seeds with 95 % CI (bars), the paper's NSR (ticks), and the share of "
+                "terrains whose outcome flips between seeds. <a href='nsr_seeds.csv'>nsr_seeds.csv</a>")
+    page.raw(_plain_table_html([{k: (f"{v:.1f}" if isinstance(v, float) else v) for k, v in ln.items()}
+                                for ln in lines], SEED_COLUMNS))
 
 
 def strip_html(out_dir: Path, rows: list[dict[str, Any]], seconds: float = 3.0, name: str = "trial_strip.png") -> str:

@@ -55,3 +55,36 @@ def _fmt(name: str, v: float) -> str:
     if v != v:
         return "-"
     return f"{v:.3f}" if name == "NEF" else f"{v:.1f}"
+
+
+def seed_summary(rows: list[dict[str, Any]], *, draws: int = 2000) -> dict[tuple[str, str], dict[str, float]]:
+    """(method, group) -> NSR over seeds, its CI, and how often outcomes flip between seeds.
+
+    The benchmark is chaotic (a few cm of start offset flips hard terrains), so one trial per
+    terrain is a noisy draw. Per (method, group), on the terrains run with every seed seen for
+    that pair: ``NSR`` = success share over all (terrain, seed) trials (%); ``NSR_lo`` /
+    ``NSR_hi`` = 95 % percentile bootstrap over terrains (a terrain keeps all its seeds: seeds
+    of one terrain are not independent); ``flip_share`` = share of terrains whose outcome
+    (success or not) differs between seeds (%); ``n_terrains``, ``n_seeds``. Deterministic
+    (fixed bootstrap seed).
+    """
+    import numpy as np
+
+    out = {}
+    for key, rs in group_rows(rows).items():
+        seeds = sorted({int(r["seed"]) for r in rs})
+        by_terrain: dict[str, dict[int, float]] = {}
+        for r in rs:
+            by_terrain.setdefault(r["instance"], {})[int(r["seed"])] = 1.0 if r["status"] == "success" else 0.0
+        full = sorted(t for t, d in by_terrain.items() if len(d) == len(seeds))
+        if not full:
+            continue
+        s = np.array([[by_terrain[t][k] for k in seeds] for t in full])  # (terrains, seeds)
+        per_terrain = s.mean(axis=1)
+        rng = np.random.default_rng(0)
+        boot = per_terrain[rng.integers(0, len(full), size=(draws, len(full)))].mean(axis=1)
+        out[key] = {"NSR": 100 * float(per_terrain.mean()), "NSR_lo": 100 * float(np.percentile(boot, 2.5)),
+                    "NSR_hi": 100 * float(np.percentile(boot, 97.5)),
+                    "flip_share": 100 * float(np.mean(s.min(axis=1) != s.max(axis=1))),
+                    "n_terrains": float(len(full)), "n_seeds": float(len(seeds))}
+    return out

@@ -207,7 +207,7 @@ def report(
 @app.command()
 @friendly
 def perf(
-    system: str = typer.Argument("mrs-cwc", help="system id"),
+    system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
     method: Optional[str] = typer.Option(None, help="method whose model and loop are timed (default: the system's first default method)"),
     terrains: Optional[str] = typer.Option(None, help="instance ids (default: the system's perf sample)"),
     seconds: float = typer.Option(30.0, help="simulated seconds per measurement (systems with a time limit)"),

@@ -206,6 +206,10 @@ def seed_lines(variants: list[Variant], seeded: list[dict[str, Any]]) -> list[di
     return lines
 
 
+def _short(label: str, width: int = 70) -> str:
+    return label if len(label) <= width else label[: width - 3] + "..."
+
+
 def _seeds_section(page: "Page", variants: list[Variant], seeded: list[dict[str, Any]]) -> None:
     lines = seed_lines(variants, seeded)
     if not lines:
@@ -217,15 +221,16 @@ def _seeds_section(page: "Page", variants: list[Variant], seeded: list[dict[str,
            "terrain keeps its seeds together), and <i>flips</i> is the share of those terrains whose outcome "
            "differs between seeds. The paper's NSR (one trial per terrain) is the black tick.")
     page.csv("nsr_seeds.csv", lines, SEED_COLUMNS)
-    fig, axes = plt.subplots(1, len(dataset.GROUPS), figsize=(5.5 * len(dataset.GROUPS), 3.8), squeeze=False)
-    for ax, group in zip(axes[0], dataset.GROUPS):
+    groups = [g for g in dataset.GROUPS if any(ln["group"] == g for ln in lines)]
+    fig, axes = plt.subplots(1, len(groups), figsize=(6.5 * len(groups), 0.6 + 0.35 * len(lines)), squeeze=False)
+    for ax, group in zip(axes[0], groups):
         sel = [ln for ln in lines if ln["group"] == group]
         y = np.arange(len(sel))
         nsr = np.array([ln["NSR"] for ln in sel])
         err = np.array([[ln["NSR"] - ln["NSR_lo"] for ln in sel], [ln["NSR_hi"] - ln["NSR"] for ln in sel]])
         ax.barh(y, nsr, xerr=err if len(sel) else None, color="#4c72b0", alpha=0.8, capsize=3)
         ax.scatter([ln["NSR_paper"] for ln in sel], y, marker="|", s=200, color="k", zorder=3)
-        ax.set_yticks(y, [f"{ln['label']} (flips {ln['flip_share']:.0f} %)" for ln in sel], fontsize=7)
+        ax.set_yticks(y, [f"{_short(ln['label'])} (flips {ln['flip_share']:.0f} %)" for ln in sel], fontsize=7)
         ax.set(xlim=(0, 100), xlabel="NSR % over seeds", title=f"group {group}")
         ax.invert_yaxis()
     fig.tight_layout()

@@ -50,19 +50,11 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
         chosen = system.select_instances(instances)
     else:
         chosen = system.instances(group if group is not None else system.default_group)
-    applicable = system.methods_for(group)
-    if applicable is not None and methods is not None and list(methods) != ["all"]:
-        wrong = [m for m in mids if m not in applicable]
-        if wrong:
-            raise ValueError(f"method(s) {', '.join(wrong)} do not run in group {group!r}; "
-                             f"valid there: {', '.join(applicable)}")
     cfg = system.resolve_config(overrides)
     out: list[TrialSpec] = []
     planned: list[tuple[str, str, dict[str, Any], range]] = []
     for inst in chosen:
         for mid in mids:
-            if not system.applies(mid, inst):
-                continue
             c = system.trial_config(mid, inst, cfg)
             planned.append((mid, inst, c, system.seeds_for(mid, inst, c, seeds)))
     if not planned:

@@ -21,9 +21,8 @@ from __future__ import annotations
 from typing import Any, Mapping, Sequence
 
 import gymnasium
-import numpy as np
 
-from terrabench.benchmark.trial import TrialResult
+from terrabench.benchmark.trial import TRUNCATIONS, TrialResult
 
 
 class TerrabenchEnv(gymnasium.Env):
@@ -124,8 +123,8 @@ class TerrabenchEnv(gymnasium.Env):
         status = stop[0] if stop else "running"
         reward, terms = self.adapter.reward(self._x, x, ep.energy - e0, status)
         self._x = x
-        terminated = stop is not None and stop[0] != "timeout"
-        truncated = stop is not None and stop[0] == "timeout"
+        truncated = stop is not None and stop[0] in TRUNCATIONS
+        terminated = stop is not None and not truncated
         return x, float(reward), terminated, truncated, self._info(stop, terms)
 
     def render(self):

@@ -3,36 +3,33 @@
 For each instance, three passes from the same start, through the system contract:
 
 1. *loop*: a real episode (controller, sensing, logging, metrics), timed as a whole;
-2. a recording pass (not timed) that keeps, every control period, ``data.ctrl`` and the model
-   arrays the task changes at run time (``task.mutable_model_fields``, e.g. yaw stiffness);
-3. *raw*: a fresh copy of the scene replaying exactly those commands with ``mj_step`` alone
-   (and the task's per-substep hook, which is physics, when it has one): the engine's cost of
-   the very motion the loop produced.
+2. a recording pass (not timed) that keeps a copy of every control period's command;
+3. *raw*: a fresh copy of the scene replaying exactly those commands: ``task.apply`` (the
+   command's limits and run-time model changes, so the motion is the loop's) and ``mj_step``
+   (with the task's per-substep hook, which is physics, when it has one); no sensing, no
+   controller, no logging.
 
-Reported: physics steps/s, real-time factor (simulated s per wall s), loop/raw (1.0 = Python
-adds nothing) and the share of the loop spent inside ``mj_step``.
+Reported: physics steps/s, real-time factor (simulated s per wall s), loop/raw (1.0 = the
+episode adds nothing) and the share of the loop spent inside ``mj_step``.
 """
 
 from __future__ import annotations
 
+import copy
 import time
 from typing import Any, Sequence
 
 import mujoco
 import numpy as np
 
-from terrabench.sim.episode import Episode, run_episode
+from terrabench.sim.episode import run_episode
 from terrabench.sim.scene import compile_scene
-from terrabench.systems.base import System
 
 
 def measure(system: Any, method: str | None, instances: Sequence[str] | None, seconds: float) -> list[dict]:
     """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds)."""
     if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
         raise ValueError(f"--seconds must be a positive finite number, got {seconds!r}")
-    if type(system).make_task is System.make_task:
-        raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop; "
-                         f"perf times systems that do (see `terrabench list`)")
     chosen = list(instances) if instances else list(system.perf_instances)
     # a system without a time limit (a testbed that runs a fixed protocol) is timed as it is
     overrides = {system.timeout_key: seconds} if system.timeout_key else {}
@@ -41,7 +38,11 @@ def measure(system: Any, method: str | None, instances: Sequence[str] | None, se
     rows = []
     for spec in specs:
         cfg = system.load_config(spec.config)
-        task = system.make_task(spec, cfg)
+        try:
+            task = system.make_task(spec, cfg)
+        except NotImplementedError:
+            raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop; "
+                             f"perf times systems that do (see `terrabench list`)") from None
         log = run_episode(task, system.make_controller(spec, cfg, task))
         loop_time = log.timing["loop"]
         steps = log.timing["physics_steps"]
@@ -56,33 +57,24 @@ def measure(system: Any, method: str | None, instances: Sequence[str] | None, se
     return rows
 
 
-def _record(system: Any, spec, cfg) -> list[tuple[np.ndarray, list[np.ndarray]]]:
+def _record(system: Any, spec, cfg) -> list[Any]:
+    commands: list[Any] = []
     task = system.make_task(spec, cfg)
-    out: list[tuple[np.ndarray, list[np.ndarray]]] = []
-
-    def keep(task, obs, cmd) -> None:
-        out.append((task_data.ctrl.copy(), [getattr(task_model, f).copy() for f in task.mutable_model_fields]))
-
-    ep = Episode(task, on_step=keep)
-    task_model, task_data = ep.model, ep.data
-    controller = system.make_controller(spec, cfg, task)
-    obs, stop = ep.begin()
-    while stop is None:
-        obs, stop = ep.step(controller(obs))
-    return out
+    # controllers may return one command object mutated in place: keep copies
+    run_episode(task, system.make_controller(spec, cfg, task),
+                on_step=lambda task, obs, cmd: commands.append(copy.deepcopy(cmd)))
+    return commands
 
 
-def _replay(task: Any, commands: list[tuple[np.ndarray, list[np.ndarray]]]) -> float:
+def _replay(task: Any, commands: list[Any]) -> float:
     m, d = compile_scene(task)
     task.bind(m, d)
     nsub = task.timing.substeps(task.physics.timestep)
-    fields = [getattr(m, f) for f in task.mutable_model_fields]
     hook = task.before_substep
+    apply = task.apply
     t0 = time.perf_counter()
-    for ctrl, values in commands:
-        d.ctrl[:] = ctrl
-        for arr, v in zip(fields, values):
-            arr[:] = v
+    for cmd in commands:
+        apply(cmd)
         if hook is None:
             mujoco.mj_step(m, d, nsub)
         else:

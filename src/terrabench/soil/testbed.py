@@ -94,14 +94,13 @@ def rig_point(soil: SoilParams | SoilTable, wheel: WheelParams, load: float, sli
     d.ctrl[:] = [v, cfg.omega]
     n_settle, n_avg = int(cfg.settle_s / cfg.timestep), int(cfg.average_s / cfg.timestep)
     acc = np.zeros(5)
-    cdof, wdof = m.joint("carriage_x").dofadr[0], m.joint("wheel_spin").dofadr[0]
+    cdof = m.joint("carriage_x").dofadr[0]
     for k in range(n_settle + n_avg):
         sw.before_substep(m, d)
         mujoco.mj_step(m, d)
         if k >= n_settle:
-            vx, om = d.qvel[cdof], d.qvel[wdof]
             acc += (-d.actuator_force[0], d.actuator_force[1], sw.truth["sinkage"][0],
-                    sw.truth["slip"][0], vx * 1.0)
+                    sw.truth["slip"][0], d.qvel[cdof])
     dp, tq, z, s_meas, vx = acc / n_avg
     return _row(table.soil.name, load, slip, dp, tq, z, vx, cfg.omega, "mujoco", slip_measured=s_meas)
 

@@ -20,7 +20,6 @@ that ``--timeout`` sets, ``headline_metrics`` the columns of the per-trial table
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -41,8 +40,6 @@ class Task(Protocol):
         columns: names of the values :meth:`row` returns, in order.
         before_substep: optional ``(model, data) -> None`` called before every physics step
             (e.g. soil forces into ``data.xfrc_applied``); absent or None keeps the C fast path.
-        mutable_model_fields: names of ``MjModel`` arrays that :meth:`apply` changes at run
-            time (e.g. ``("jnt_stiffness",)``), so ``terrabench perf`` can replay an episode.
     """
 
     physics: Any
@@ -82,8 +79,6 @@ class TaskBase:
 
     #: ``(model, data) -> None`` before every physics step, or None for the C fast path
     before_substep: Callable[[Any, Any], None] | None = None
-    #: ``MjModel`` arrays that :meth:`apply` changes at run time (``terrabench perf`` replays them)
-    mutable_model_fields: tuple[str, ...] = ()
 
     def info(self) -> dict[str, Any]:
         return {}
@@ -146,10 +141,6 @@ class System:
         """Instance ids of ``group`` (None or ``"all"``: every instance), in run order."""
         raise NotImplementedError
 
-    def methods_for(self, group: str | None) -> list[str] | None:
-        """Methods that apply to ``group`` (None: all methods apply to all groups)."""
-        return None
-
     def scenario(self, method: str, instance: str) -> str:
         """The versioned scenario id a trial belongs to."""
         raise NotImplementedError
@@ -186,10 +177,6 @@ class System:
         from terrabench.benchmark.plan import split_ids
 
         return split_ids(ids, f"{self.id} instance(s)", self.instances(None)) or []
-
-    def applies(self, method: str, instance: str) -> bool:
-        """Whether ``method`` runs on ``instance`` (all pairs by default)."""
-        return True
 
     # ------------------------------------------------------------------ running (generic)
     def load_config(self, config: Mapping[str, Any]) -> Any:
@@ -276,6 +263,3 @@ def check_finite_positive(name: str, value: Any, unit: str) -> None:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
         raise ValueError(f"{name} must be a positive finite number ({unit}), got {value!r}")
 
-
-def field_names(cls: type) -> list[str]:
-    return [f.name for f in dataclasses.fields(cls)]

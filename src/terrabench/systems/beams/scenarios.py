@@ -607,7 +607,7 @@ def run_barriers(cfg: TrialConfig) -> TrialResult:
     for name, k in (("low", CASES["flimsy"][0]), ("high", CASES["stiff"][0])):
         b = pitch_roll_barriers(k, robot, layout, grid)
         metrics[f"pitch_{name}_mJ"] = 1e3 * b["pitch"]
-        metrics[f"roll_mJ"] = 1e3 * b["roll"]
+        metrics["roll_mJ"] = 1e3 * b["roll"]
     metrics["k_cross"] = critical_stiffness_landscape(robot, layout, grid)
     metrics["k0_formula"] = critical_stiffness(robot, layout)
     metrics["roll_clear_deg"] = roll_to_clear(robot, layout)
@@ -617,7 +617,6 @@ def run_barriers(cfg: TrialConfig) -> TrialResult:
 def roll_to_clear(robot: RobotParams, layout: BeamLayout) -> float:
     """Smallest |roll| (deg, 0.1 deg steps) at which the robot passes the vertical beams without contact
     at every x (pitch 0); NaN when no roll up to 90 deg does."""
-    beam = Beam(1.0)
     xs = np.linspace(-robot.a - 0.01, robot.a + 0.01, 121)
     for deg in np.arange(0.0, 90.01, 0.1):
         al = math.radians(deg)

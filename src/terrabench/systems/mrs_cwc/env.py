@@ -39,8 +39,6 @@ bitwise, when the env is driven by the benchmark's controller.
 from __future__ import annotations
 
 import math
-from typing import Any
-
 import numpy as np
 from gymnasium import spaces
 

@@ -33,7 +33,6 @@ class MRSTask(TaskBase):
     """The chain of ``method``'s link variant on ``terrain`` under ``cfg``."""
 
     columns = COLUMNS
-    mutable_model_fields = ("jnt_stiffness",)
 
     def __init__(self, method: Method, terrain: dataset.Terrain, cfg: MRSConfig):
         self.method, self.terrain, self.cfg = method, terrain, cfg

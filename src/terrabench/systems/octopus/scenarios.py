@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
-from terrabench.benchmark.plan import split_ids
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.octopus.ccm import CCMController
@@ -51,9 +50,6 @@ class OctopusSystem(System):
         if group == "sweep":
             return list(SWEEP_TASKS)
         return list(STEP_TASKS) + list(SWEEP_TASKS)
-
-    def select_instances(self, ids: Sequence[str]) -> list[str]:
-        return split_ids(ids, "octopus instance(s)", self.instances(None)) or []
 
     def scenario(self, method: str, instance: str) -> str:
         return SWEEP_SCENARIO if instance.startswith("sweep-") else SCENARIO

@@ -81,7 +81,6 @@ class OctopusTask(TaskBase):
     """The robot driven by one controller on one instance's terrain."""
 
     columns = COLUMNS
-    mutable_model_fields = ("geom_surfacevel",)
 
     def __init__(self, method: str, instance: str, cfg: OctopusConfig, seed: int = 0):
         self.method, self.instance, self.cfg, self.seed = method, instance, cfg, seed
@@ -113,7 +112,6 @@ class OctopusTask(TaskBase):
         self.act = np.array([model.actuator(Names.act(j)).id for j in actuated_joints()])
         data.ctrl[self.act] = [data.qpos[model.joint(j).qposadr[0]] for j in actuated_joints()]
         self.chassis = model.body(Names.CHASSIS).id
-        r = self.cfg.robot
         # moving surfaces: (geom id, side index, kind 0 = linear run / 1 = pulley of radius, sign)
         surf = []
         for si, side in enumerate(Names.SIDES):

@@ -21,6 +21,14 @@ from __future__ import annotations
 
 from typing import Any, Protocol, runtime_checkable
 
+import numpy as np
+from gymnasium import spaces
+
+
+def box(*shape: int, low: float = -np.inf, high: float = np.inf) -> spaces.Box:
+    """A float64 ``Box`` of ``shape`` (unbounded by default): the observation blocks of adapters."""
+    return spaces.Box(low=low, high=high, shape=shape, dtype=np.float64)
+
 
 @runtime_checkable
 class EnvAdapter(Protocol):

@@ -39,18 +39,16 @@ bitwise, when the env is driven by the benchmark's controller.
 from __future__ import annotations
 
 import math
+
 import numpy as np
 from gymnasium import spaces
 
+from terrabench.envs.adapter import box as _box
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.sensing import Observation
 
 #: bound of every wheel-speed action (rad/s); the benchmark's laws stay within 6 rad/s
 WHEEL_LIMIT = 8.0
-
-
-def _box(*shape: int, low: float = -np.inf, high: float = np.inf) -> spaces.Box:
-    return spaces.Box(low=low, high=high, shape=shape, dtype=np.float64)
 
 
 class MRSEnvAdapter:

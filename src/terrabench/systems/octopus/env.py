@@ -20,14 +20,11 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
+from terrabench.envs.adapter import box as _box
 from terrabench.systems.octopus.clm import Command
 
 #: bound of the track-speed actions (m/s); the controllers drive at 0.06-0.1 m/s
 TRACK_LIMIT = 0.3
-
-
-def _box(n: int) -> spaces.Box:
-    return spaces.Box(low=-np.inf, high=np.inf, shape=(n,), dtype=np.float64)
 
 
 class OctopusEnvAdapter:

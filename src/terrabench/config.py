@@ -93,13 +93,11 @@ def _coerce(current: Any, value: Any, full: str) -> Any:
     if isinstance(current, (int, float)):
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise ValueError(f"config key {full!r} expects a number, got {value!r}")
+        kind = "an integer" if isinstance(current, int) else "a number"
         try:
             number = float(value)
         except ValueError:
-            number = float("nan") if isinstance(current, float) else None
-            if isinstance(current, int) or str(value).strip().lower() != "nan":
-                kind = "an integer" if isinstance(current, int) else "a number"
-                raise ValueError(f"config key {full!r} expects {kind}, got {value!r}") from None
+            raise ValueError(f"config key {full!r} expects {kind}, got {value!r}") from None
         if isinstance(current, int):
             if not number.is_integer():
                 raise ValueError(f"config key {full!r} expects an integer, got {value!r}")

@@ -162,8 +162,9 @@ class Episode:
     def _observe(self):
         task, k = self.task, self.k
         obs = task.observe()
-        stop = task.check(obs, k % self.check_every == 0)
-        if stop is None and k % self.check_every == 0:
+        slow = k % self.check_every == 0
+        stop = task.check(obs, slow)
+        if stop is None and slow:
             why = diverged(self.model, self.data, self.max_speed)
             if why:
                 stop = ("diverged", why)

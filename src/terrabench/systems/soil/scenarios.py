@@ -47,8 +47,7 @@ class SoilTestbedConfig:
     wheel: WheelParams = HIT_MRII_WHEEL
     rig: RigConfig = field(default_factory=RigConfig)
     control_period: float = 0.01
-    custom_soil: SoilParams = field(default_factory=lambda: SoilParams(**{**to_dict(MARS_SOFT), "name": "custom",
-                                                                         "source": "user-set (--set custom_soil.*)"}))
+    custom_soil: SoilParams = replace(MARS_SOFT, name="custom", source="user-set (--set custom_soil.*)")
     soil: SoilParams = MARS_SOFT
 
     def __post_init__(self) -> None:

@@ -41,7 +41,9 @@ class RigTask(TaskBase):
                  control_period: float):
         self.soil, self.wheel, self.load, self.slip, self.rig = soil, wheel, load, slip, rig
         self.physics = PhysicsConfig(timestep=rig.timestep, integrator="implicitfast")
-        self.timing = Timing(control_period, rig.settle_s + rig.average_s, control_period, control_period)
+        # the protocol ends the trial (status done, in check); the time limit is only a backstop
+        self.duration = rig.settle_s + rig.average_s
+        self.timing = Timing(control_period, self.duration + 2 * control_period, control_period, control_period)
         self.v = float(kappa_from_slip(slip)) * wheel.radius * rig.omega
 
     def build(self, spec: mujoco.MjSpec) -> None:
@@ -66,6 +68,8 @@ class RigTask(TaskBase):
         return self.data
 
     def check(self, obs, slow: bool):
+        if self.data.time >= self.duration - 0.5 * self.timing.control_period:
+            return "done", f"settled {self.rig.settle_s} s, averaged {self.rig.average_s} s"
         return None
 
     def apply(self, cmd) -> None:

@@ -155,11 +155,9 @@ class TerrabenchEnv(gymnasium.Env):
         """The finished episode as the benchmark's :class:`TrialResult` (status, metrics, series)."""
         if self._stop is None:
             raise RuntimeError("the episode has not ended yet")
-        log = self.episode.log()
-        metrics = self.task.metrics(log)
-        metrics["sim_time"] = log.sim_time
-        info = {"reason": log.reason, **self.task.info(), "control_steps": log.steps}
-        return TrialResult(log.status, metrics, log.thinned(self.task.timing.log_period), log.timing["wall"], info)
+        from terrabench.systems.base import episode_result
+
+        return episode_result(self.task, self.episode.log())
 
     def _info(self, stop, terms: dict[str, float]) -> dict[str, Any]:
         info = {"status": stop[0] if stop else "running", "reason": stop[1] if stop else "",

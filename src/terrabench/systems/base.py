@@ -240,22 +240,25 @@ class System:
 
 
 def run_task(task: Task, controller: Callable[[Any], Any], *, on_step: Callable | None = None) -> TrialResult:
-    """One episode of ``task`` driven by ``controller``, as a trial result.
-
-    Metrics are the task's plus ``sim_time``; the series is the log thinned to
-    ``task.timing.log_period``; ``info`` holds the stop reason, the task's ``info()`` extras
-    (if it has that method) and the timing figures.
-    """
+    """One episode of ``task`` driven by ``controller``, as a trial result (:func:`episode_result`)."""
     from terrabench.sim.episode import run_episode
 
-    t0 = time.perf_counter()
-    log = run_episode(task, controller, on_step=on_step)
+    return episode_result(task, run_episode(task, controller, on_step=on_step))
+
+
+def episode_result(task: Task, log: Any) -> TrialResult:
+    """A finished episode's :class:`TrialResult` (the benchmark's and the Gymnasium env's).
+
+    Metrics are the task's plus ``sim_time``; the series is the log thinned to
+    ``task.timing.log_period``; ``info`` holds the stop reason, the task's ``info()`` extras and
+    the timing figures; the wall time is the episode's, scene compilation included.
+    """
     metrics = task.metrics(log)
     metrics["sim_time"] = log.sim_time
     info = {"reason": log.reason, **task.info(), "control_steps": log.steps,
             "physics_steps": int(log.timing["physics_steps"]), "wall_time": log.timing["wall"],
             "loop_time": log.timing["loop"], "engine_time": log.timing["engine"]}
-    return TrialResult(log.status, metrics, log.thinned(task.timing.log_period), time.perf_counter() - t0, info)
+    return TrialResult(log.status, metrics, log.thinned(task.timing.log_period), log.timing["wall"], info)
 
 
 def check_finite_positive(name: str, value: Any, unit: str) -> None:

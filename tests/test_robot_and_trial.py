@@ -243,3 +243,23 @@ def test_rigid_contacts_make_linked_units_fight_but_not_free_units():
     assert power("cs-tdt", RIGID) > 10.0
     assert power("d-tdt", RIGID) < 4.0
     assert power("cs-tdt", {}) < 5.0
+
+
+def test_stall_watch_rule():
+    from terrabench.sim.stall import StallWatch
+
+    w = StallWatch(2.0, 0.05)
+    assert not w.update(0.0, 0.0, 0.0, 10.0)
+    assert not w.update(1.0, 0.01, 0.0, 10.0)  # within 5 cm: no progress
+    assert w.update(2.0 - 1e-9, 0.02, 0.0, 10.0)  # the accumulated clock's rounding is tolerated
+    w = StallWatch(2.0, 0.05)
+    w.update(0.0, 0.0, 0.0, 10.0)
+    assert not w.update(1.5, 0.0, 0.0, 9.9)  # closer to the goal by > 5 cm: progress
+    assert not w.update(3.0, 0.0, 0.0, 9.9)
+    assert w.update(3.5, 0.0, 0.0, 9.9)
+    w = StallWatch(2.0, 0.05)
+    w.update(0.0, 0.0, 0.0, 10.0)
+    assert not w.update(1.9, 0.06, 0.0, 10.0)  # moved > 5 cm: progress, even if no closer
+    assert not w.update(3.8, 0.06, 0.0, 10.0) and w.update(3.9, 0.06, 0.0, 10.0)
+    with pytest.raises(ValueError, match="stall watch"):
+        StallWatch(0.0, 0.05)

@@ -7,13 +7,12 @@ truncates it. Metrics are the benchmark's NCR, NEF, NEC from the leader's path (
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
 from terrabench.metrics.navigation import navigation_metrics
 from terrabench.sim.episode import Timing
+from terrabench.sim.stall import StallWatch
 from terrabench.systems.base import TaskBase
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.config import MRSConfig
@@ -94,9 +93,7 @@ class MRSTask(TaskBase):
             self._wheel_ctrl = None
         self._power_buf = np.zeros((n, 2))
         # the opt-in stall stop (protocol.stall_time)
-        self._stall_time = pr.stall_time
-        self._stall_since = 0.0
-        self._stall_ref = None
+        self._stall = StallWatch(pr.stall_time, pr.stall_distance) if pr.stall_time > 0 else None
         return self.obs
 
     # ------------------------------------------------------------------ loop
@@ -112,29 +109,19 @@ class MRSTask(TaskBase):
             return "fell", f"leader below z = {pr.fall_z} m"
         if slow:
             self.drop_fallen_units(self.cfg.protocol.fall_z)
-            if self._stall_time > 0:
+            if self._stall is not None:
                 return self._stalled(obs)
         return None
 
     def _stalled(self, obs: Observation) -> tuple[str, str] | None:
-        """``stuck`` once the leader has neither moved ``stall_distance`` nor got closer to the
-        target than its best distance so far (d_min, which fixes NCR) for ``stall_time`` s.
-
-        Checked on the slow period only. NCR, NEF's numerator and success depend on d_min alone,
-        so a trial stopped here keeps its NCR; its journey, energy and NEC are those at the stop.
+        """``stuck`` per :class:`~terrabench.sim.stall.StallWatch` on the leader's position and
+        target distance. Checked on the slow period only. NCR, NEF's numerator and success
+        depend on d_min alone, so a trial stopped here keeps its NCR; its journey, energy and
+        NEC are those at the stop.
         """
-        pr = self.cfg.protocol
-        d = obs.target_distance
-        xy = (float(obs.pos[0, 0]), float(obs.pos[0, 1]))
-        ref = self._stall_ref
-        if ref is None or math.hypot(xy[0] - ref[0], xy[1] - ref[1]) > pr.stall_distance \
-                or d < ref[2] - pr.stall_distance:
-            self._stall_ref = (xy[0], xy[1], min(d, ref[2]) if ref is not None else d)
-            self._stall_since = obs.t
-            return None
-        if obs.t - self._stall_since >= self._stall_time:
-            return "stuck", (f"leader moved < {pr.stall_distance} m and d_min did not improve for "
-                             f"{self._stall_time:g} s")
+        p = obs.pos[0]
+        if self._stall.update(obs.t, float(p[0]), float(p[1]), obs.target_distance):
+            return "stuck", self._stall.reason()
         return None
 
     def apply(self, cmd: ctl.Command) -> None:

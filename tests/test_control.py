@@ -152,3 +152,35 @@ def test_a_follower_far_behind_is_capped_at_the_wheel_speed_limit():
     body(obs, 0.0, cmd)
     assert np.all(np.abs(cmd.wheel_speed[1]) <= 6.0)
     assert cmd.wheel_speed[1, 1] == pytest.approx(6.0)  # still turning towards it at full speed
+
+
+def test_the_scalar_cwc_law_is_the_vector_law_bitwise():
+    """CWCLaw runs on Python floats for speed; it must equal the array formulation exactly
+    (wrap of the heading errors, then v -/+ g e per unit), so stored results do not move."""
+    from terrabench.systems.mrs_cwc.sensing import wrap
+
+    drive = ctl.DriveConfig()
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        yaw = rng.uniform(-7.0, 7.0, 6)
+        ref = float(rng.uniform(-4.0, 4.0))
+        body = ctl.CWCLaw(6, drive, ctl.StiffnessLawConfig(), 0.025)
+        cmd = ctl.Command(6)
+        body(fake_obs(np.zeros((6, 3)), yaw), ref, cmd)
+        e = np.concatenate([[wrap(ref - yaw[0])], wrap(yaw[:-1] - yaw[1:])])
+        want = np.multiply(e, drive.turn_gain)[:, None] * np.array([-1.0, 1.0]) + drive.wheel_speed
+        np.testing.assert_array_equal(cmd.wheel_speed, want)
+
+
+def test_index_view_writes_through_when_it_can():
+    from terrabench.sim.scene import index_view, writer
+
+    a = np.zeros(30)
+    assert np.shares_memory(index_view(a, [3, 8, 13, 18]), a)  # evenly spaced: a view
+    assert not np.shares_memory(index_view(a, [3, 4, 9]), a)  # not: a copy
+    for ids in ([3, 8, 13, 18], [3, 4, 9], [5], []):
+        b = np.zeros(30)
+        writer(b, ids)(7.0)
+        want = np.zeros(30)
+        want[ids] = 7.0
+        np.testing.assert_array_equal(b, want)

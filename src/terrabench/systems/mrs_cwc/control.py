@@ -184,16 +184,18 @@ class Command:
     """What a body law returns each period.
 
     Attributes:
-        wheel_speed: (n, 2) [left, right] targets for the velocity servos (rad/s).
+        wheel_speed: (n, 2) [left, right] targets for the velocity servos (rad/s);
+            ``wheel_flat`` is the same memory as one row [l0, r0, l1, r1, ...].
         yaw_stiffness: common yaw-spring stiffness (N m/rad), or None to leave it.
         yaw_target: (n-1,) yaw-servo targets (rad), or None.
         tau_env: the body law's last |tau_env| estimate (N m), NaN where it has none; logged.
     """
 
-    __slots__ = ("wheel_speed", "yaw_stiffness", "yaw_target", "tau_env")
+    __slots__ = ("wheel_speed", "wheel_flat", "yaw_stiffness", "yaw_target", "tau_env")
 
     def __init__(self, n: int):
         self.wheel_speed = np.zeros((n, 2))
+        self.wheel_flat = self.wheel_speed.reshape(-1)  # a view: [l0, r0, l1, r1, ...]
         self.yaw_stiffness: float | None = None
         self.yaw_target: np.ndarray | None = None
         self.tau_env = float("nan")
@@ -207,34 +209,36 @@ class BodyLaw(Protocol):
     tau_env: float
 
 
-_LR = np.array([-1.0, 1.0])
-
-
-def _differential(cmd: Command, errors: np.ndarray, drive: DriveConfig) -> None:
-    """wheel_speed[:, 0] = v - g e, [:, 1] = v + g e, in place (v + (-g e) == v - g e exactly)."""
-    ws = cmd.wheel_speed
-    np.multiply(np.multiply(errors, drive.turn_gain)[:, None], _LR, out=ws)
-    ws += drive.wheel_speed
+def _drive(out: list[float], e: float, drive: DriveConfig) -> None:
+    """Append one unit's [left, right] = [v - g e, v + g e] (as ``(-(g e)) + v``, ``g e + v``:
+    the rounding of the vectorised law this replaced, bitwise)."""
+    m = e * drive.turn_gain
+    out += ((-m) + drive.wheel_speed, m + drive.wheel_speed)
 
 
 class CWCLaw:
-    """CWC and CS: followers copy the predecessor's heading; yaw stiffness from the law."""
+    """CWC and CS: followers copy the predecessor's heading; yaw stiffness from the law.
+
+    Written on Python floats: for six units one numpy call costs more than the arithmetic it
+    does, and this runs every control period (the wrap is :func:`wrap_scalar`, bitwise equal
+    to the array :func:`wrap`).
+    """
 
     def __init__(self, n: int, drive: DriveConfig, law: StiffnessLawConfig, control_period: float):
         self.drive, self.law = drive, StiffnessLaw(law, control_period)
-        self._errors = np.zeros(n)
 
     @property
     def tau_env(self) -> float:
         return self.law.tau_env
 
     def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
-        e = self._errors
-        yaw = obs.yaw
-        e0 = wrap_scalar(heading_ref - float(yaw[0]))
-        e[0] = e0
-        e[1:] = wrap(yaw[:-1] - yaw[1:])
-        _differential(cmd, e, self.drive)
+        yaw = obs.yaw.tolist()
+        e0 = wrap_scalar(heading_ref - yaw[0])
+        out: list[float] = []
+        _drive(out, e0, self.drive)
+        for ahead, behind in zip(yaw, yaw[1:]):
+            _drive(out, wrap_scalar(ahead - behind), self.drive)
+        cmd.wheel_flat[:] = out
         tl, tr = obs.wheel_torque[0].tolist()
         cmd.yaw_stiffness = self.law.update(e0, float(obs.yaw_rate[0]), tl, tr, float(obs.joint_yaw[0]))
 
@@ -268,17 +272,17 @@ class HeadFollowing:
     def __init__(self, n: int, drive: DriveConfig, cfg: HeadFollowingConfig):
         self.drive, self.cfg = drive, cfg
         self.a = 0.0
-        self._errors = np.zeros(n)
         # history[j] holds joint j's past compliant-free commands, newest last
         self._history = [deque([0.0] * cfg.delay_steps, maxlen=cfg.delay_steps) for _ in range(n - 1)]
         self._targets = np.zeros(n - 1)
 
     def __call__(self, obs: Observation, heading_ref: float, cmd: Command) -> None:
         c = self.cfg
-        e0 = wrap(heading_ref - obs.yaw[0])
-        self._errors[0] = e0
-        _differential(cmd, self._errors, self.drive)
-        cmd.wheel_speed[1:, :] = c.follower_wheel_speed
+        e0 = wrap_scalar(heading_ref - float(obs.yaw[0]))
+        lead: list[float] = []
+        _drive(lead, e0, self.drive)
+        cmd.wheel_flat[:2] = lead
+        cmd.wheel_flat[2:] = c.follower_wheel_speed
         target = 0.0 if abs(e0) < c.dead_band else math.copysign(c.head_angle, e0)
         self.a = c.ema * target + (1 - c.ema) * self.a
         base = self.a

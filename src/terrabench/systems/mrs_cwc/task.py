@@ -12,6 +12,7 @@ import numpy as np
 
 from terrabench.metrics.navigation import navigation_metrics
 from terrabench.sim.episode import Timing
+from terrabench.sim.scene import index_view, writer
 from terrabench.sim.stall import StallWatch
 from terrabench.systems.base import TaskBase
 from terrabench.systems.mrs_cwc import control as ctl
@@ -86,11 +87,11 @@ class MRSTask(TaskBase):
             self._err_max = ch.wheel_torque_limit / ch.wheel_kv
         self._target = pr.target_xy
         self._thr2 = pr.success_threshold ** 2
-        a = int(self.wheel_act[0, 0])
-        if np.array_equal(self.wheel_act.ravel(), np.arange(a, a + 2 * n)):  # always, by construction
-            self._wheel_ctrl = data.ctrl[a : a + 2 * n].reshape(n, 2)  # a view: no fancy indexing
-        else:
-            self._wheel_ctrl = None
+        wheels = index_view(data.ctrl, self.wheel_act)
+        # a view (no fancy indexing) when the motors are consecutive: always, by construction
+        self._wheel_ctrl = wheels.reshape(n, 2) if np.shares_memory(wheels, data.ctrl) else None
+        self._set_stiffness = writer(model.jnt_stiffness, self.yaw_joints)
+        self._set_yaw_targets = writer(data.ctrl, self.yaw_servos)
         self._power_buf = np.zeros((n, 2))
         # the opt-in stall stop (protocol.stall_time)
         self._stall = StallWatch(pr.stall_time, pr.stall_distance) if pr.stall_time > 0 else None
@@ -138,9 +139,9 @@ class MRSTask(TaskBase):
             else:
                 np.minimum(np.maximum(cmd.wheel_speed, ws - err, out=out), ws + err, out=out)
         if cmd.yaw_stiffness is not None:
-            self.model.jnt_stiffness[self.yaw_joints] = cmd.yaw_stiffness
+            self._set_stiffness(cmd.yaw_stiffness)
         if self._has_servo:
-            d.ctrl[self.yaw_servos] = cmd.yaw_target
+            self._set_yaw_targets(cmd.yaw_target)
 
     def row(self, obs: Observation, cmd: ctl.Command | None) -> tuple[float, ...]:
         p = obs.pos[0]

@@ -92,6 +92,13 @@ def test_process_pool_matches_in_process(tmp_path):
         rb = {r["key"]: r["metrics"] for r in b.rows()}
         assert len(ra) == 2
         np.testing.assert_equal(ra, rb)  # NaN == NaN here
+        # every row says what it ran on: the versions and numpy's SIMD paths decide last bits
+        import mujoco
+
+        for r in b.rows():
+            host = r["info"]["host"]
+            assert host["numpy"] == np.__version__ and host["mujoco"] == mujoco.__version__
+            assert isinstance(host["numpy_simd"], list)
 
 
 def test_incompatible_store_is_refused_and_left_untouched(tmp_path):

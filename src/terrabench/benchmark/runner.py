@@ -25,6 +25,7 @@ Faults (see "Runner faults" in ``docs/design.md``):
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import signal
@@ -80,7 +81,33 @@ def execute(spec: TrialSpec) -> TrialResult:
         )
     if not result.wall_time:
         result.wall_time = time.perf_counter() - t0
+    result.info["host"] = host_fingerprint()
     return result
+
+
+@functools.lru_cache(maxsize=1)
+def host_fingerprint() -> dict[str, Any]:
+    """What besides the spec decides a trial's last bits: library versions and the CPU paths.
+
+    A trial is a deterministic function of its spec *on one kind of machine*. numpy picks SIMD
+    kernels at run time: on a CPU with AVX-512, ``np.arctan2`` (the chains' headings) differs
+    from the scalar libm result in the last bit on ~7 % of inputs, and on a chaotic terrain a
+    last-bit difference grows to metres within a minute (docs/performance.md). Stored with
+    every row so that two stores can be compared knowing whether they can agree bitwise.
+    """
+    import platform
+
+    import mujoco
+    import numpy as np
+
+    try:
+        from numpy._core import _multiarray_umath as um  # numpy >= 2
+    except ImportError:  # pragma: no cover - numpy 1.x
+        from numpy.core import _multiarray_umath as um
+    features = getattr(um, "__cpu_features__", {})
+    simd = [f for f in getattr(um, "__cpu_dispatch__", []) if features.get(f)]
+    return {"machine": platform.machine(), "python": platform.python_version(), "numpy": np.__version__,
+            "mujoco": mujoco.__version__, "numpy_simd": simd}
 
 
 @dataclass

@@ -263,3 +263,21 @@ def test_stall_watch_rule():
     assert not w.update(3.8, 0.06, 0.0, 10.0) and w.update(3.9, 0.06, 0.0, 10.0)
     with pytest.raises(ValueError, match="stall watch"):
         StallWatch(0.0, 0.05)
+
+
+def test_sphere_wheels_keep_the_cylinder_mass_and_inertia():
+    models = {}
+    for shape in ("cylinder", "sphere"):
+        t = trial.bound(get_method("cwc-tdt"), dataset.get("A-03"), override(MRSConfig(), {"chain.wheel_shape": shape}))
+        b = t.model.body("unit0_wheel_left").id
+        g = int(np.flatnonzero(t.model.geom_bodyid == b)[0])
+        models[shape] = (t.model, b, g)
+    (mc, bc, gc), (ms, bs, gs) = models["cylinder"], models["sphere"]
+    assert mc.geom_type[gc] == mujoco.mjtGeom.mjGEOM_CYLINDER and ms.geom_type[gs] == mujoco.mjtGeom.mjGEOM_SPHERE
+    assert ms.geom_size[gs][0] == mc.geom_size[gc][0]  # the wheel radius
+    assert ms.body_mass[bs] == pytest.approx(mc.body_mass[bc])
+    np.testing.assert_allclose(sorted(ms.body_inertia[bs]), sorted(mc.body_inertia[bc]), rtol=1e-9)
+    np.testing.assert_allclose(ms.body_ipos[bs], mc.body_ipos[bc], atol=1e-12)
+    assert ms.nv == mc.nv and ms.body_subtreemass[0] == pytest.approx(mc.body_subtreemass[0])
+    with pytest.raises(ValueError, match="unknown wheel shape 'cube'; valid: cylinder, sphere"):
+        override(MRSConfig(), {"chain.wheel_shape": "cube"})

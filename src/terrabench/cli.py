@@ -212,13 +212,15 @@ def perf(
     terrains: Optional[str] = typer.Option(None, help="instance ids (default: the system's perf sample)"),
     seconds: float = typer.Option(30.0, help="simulated seconds per measurement (systems with a time limit)"),
     repeats: int = typer.Option(2, help="loop and raw passes alternate this often; each keeps its fastest"),
+    set_: list[str] = typer.Option([], "--set", help="config override KEY=VALUE (repeatable): time a variant"),
 ) -> None:
     """The episode loop vs raw mj_step replaying the same commands: steps/s, RTF, ratio (CPU time)."""
     from terrabench.catalog import system as get_system
+    from terrabench.config import parse_overrides
     from terrabench.sim.perf import measure, perf_table
 
     sysobj = get_system(system)
-    rows = measure(sysobj, method, _split(terrains, "--terrains"), seconds, repeats)
+    rows = measure(sysobj, method, _split(terrains, "--terrains"), seconds, repeats, parse_overrides(set_))
     console.print(perf_table(system, rows))
 
 @terrain_app.command("stats")

@@ -32,15 +32,18 @@ from terrabench.sim.scene import compile_scene
 
 
 def measure(system: Any, method: str | None, instances: Sequence[str] | None, seconds: float,
-            repeats: int = 2) -> list[dict]:
-    """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds)."""
+            repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict]:
+    """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds), with
+    config ``overrides`` (dotted keys, as ``--set``)."""
     if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
         raise ValueError(f"--seconds must be a positive finite number, got {seconds!r}")
     if not (isinstance(repeats, int) and repeats >= 1):
         raise ValueError(f"--repeats must be a whole number >= 1, got {repeats!r}")
     chosen = list(instances) if instances else list(system.perf_instances)
     # a system without a time limit (a testbed that runs a fixed protocol) is timed as it is
-    overrides = {system.timeout_key: seconds} if system.timeout_key else {}
+    overrides = dict(overrides or {})
+    if system.timeout_key:
+        overrides[system.timeout_key] = seconds
     specs = system.plan(methods=[method or system.default_methods()[0]], instances=chosen, seeds=1,
                         overrides=overrides)
     rows = []

@@ -26,6 +26,8 @@ WHEEL_DRIVES = ("servo", "constraint")
 #: "relative yaw between robot k and robot k+1" of the stiffness law, and a positive MJ command
 #: bends the chain's front to the left.
 YAW_AXIS = (0.0, 0.0, -1.0)
+#: Collision shapes of the wheels (``ChainConfig.wheel_shape``).
+WHEEL_SHAPES = ("cylinder", "sphere")
 ROBOT_BIT = 2  # robot bodies collide with each other and the ground; wheels only with the ground
 
 
@@ -43,6 +45,10 @@ class ChainConfig:
         com_drop: centre of mass below the capsule centre (m).
         body_inertia_per_kg: principal inertia / mass about (longitudinal, lateral, vertical) (m^2).
         wheel_radius: (m).  wheel_width: (m).  wheel_mass: each (kg).
+        wheel_shape: collision shape of the wheels against the ground: ``"cylinder"`` (the
+            released model, default) or ``"sphere"`` of the wheel radius (cheaper narrow phase
+            against the height field: a speed option, measured in docs/performance.md). The
+            wheel's mass and inertia stay the cylinder's in both.
         track_half: lateral offset of each wheel (m).  axle_drop: axle below body centre (m).
         wheel_friction: effective wheel-ground friction (Bullet multiplies the pair's 1.0 and 2.0).
         wheel_kv: velocity-servo gain of the wheel motors (N m s/rad); 100/1.5 makes the
@@ -97,6 +103,7 @@ class ChainConfig:
     wheel_radius: float = 0.05
     wheel_width: float = 0.02
     wheel_mass: float = 1.57
+    wheel_shape: str = "cylinder"
     track_half: float = 0.06
     axle_drop: float = 0.025
     wheel_friction: float = 2.0
@@ -126,6 +133,8 @@ class ChainConfig:
     def __post_init__(self) -> None:
         if self.wheel_drive not in WHEEL_DRIVES:
             raise ValueError(f"unknown wheel drive {self.wheel_drive!r}; valid: {', '.join(WHEEL_DRIVES)}")
+        if self.wheel_shape not in WHEEL_SHAPES:
+            raise ValueError(f"unknown wheel shape {self.wheel_shape!r}; valid: {', '.join(WHEEL_SHAPES)}")
 
 
 class Names:
@@ -180,11 +189,18 @@ def _unit_body(parent: mujoco.MjsBody, k: int, pos, cfg: ChainConfig, leader: bo
     for side, sgn in (("left", 1.0), ("right", -1.0)):
         wb = body.add_body(name=Names.wheel(k, side), pos=[0, sgn * cfg.track_half, -cfg.axle_drop])
         wb.add_joint(name=Names.wheel(k, side), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
+        r, w, m = cfg.wheel_radius, cfg.wheel_width, cfg.wheel_mass
+        if cfg.wheel_shape == "cylinder":
+            shape = dict(type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[r, w / 2, 0],
+                         quat=[np.sqrt(0.5), np.sqrt(0.5), 0, 0], mass=m)  # cylinder axis along y
+        else:  # the cylinder's mass and inertia, a sphere's contact
+            wb.explicitinertial = True
+            wb.mass = m
+            wb.ipos, wb.iquat = [0, 0, 0], [1, 0, 0, 0]
+            wb.inertia = [m * (3 * r * r + w * w) / 12, m * r * r / 2, m * (3 * r * r + w * w) / 12]
+            shape = dict(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[r, 0, 0], mass=0)
         wb.add_geom(
-            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-            size=[cfg.wheel_radius, cfg.wheel_width / 2, 0],
-            quat=[np.sqrt(0.5), np.sqrt(0.5), 0, 0],  # cylinder axis along y
-            mass=cfg.wheel_mass,
+            **shape,
             contype=0,
             conaffinity=GROUND_BIT,
             condim=3,

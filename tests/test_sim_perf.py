@@ -23,3 +23,14 @@ def test_the_replay_reproduces_the_loops_trajectory(overrides):
     # the constraint drive writes its reference speeds into qvel: replaying through task.apply
     # carries that too, so the leader ends where the loop's leader ended, bitwise
     np.testing.assert_array_equal(replayed.obs.pos[0], log.block(("x", "y", "z"))[-1])
+
+
+def test_measure_times_a_config_variant_and_refuses_bad_repeats():
+    from terrabench.sim.perf import measure
+
+    (row,) = measure(SYSTEM, "cwc-tdt", ["B-05"], 0.5, repeats=1, overrides={"chain.wheel_shape": "sphere"})
+    assert row["loop_steps_per_s"] > 0 and row["raw_steps_per_s"] > 0 and 0 < row["engine_share"] <= 1
+    with pytest.raises(ValueError, match="repeats"):
+        measure(SYSTEM, "cwc-tdt", ["B-05"], 0.5, repeats=0)
+    with pytest.raises(ValueError, match="unknown wheel shape"):
+        measure(SYSTEM, "cwc-tdt", ["B-05"], 0.5, overrides={"chain.wheel_shape": "cube"})

@@ -281,3 +281,14 @@ def test_sphere_wheels_keep_the_cylinder_mass_and_inertia():
     assert ms.nv == mc.nv and ms.body_subtreemass[0] == pytest.approx(mc.body_subtreemass[0])
     with pytest.raises(ValueError, match="unknown wheel shape 'cube'; valid: cylinder, sphere"):
         override(MRSConfig(), {"chain.wheel_shape": "cube"})
+
+
+def test_the_bumper_ground_switch_only_removes_bumper_terrain_contact():
+    from terrabench.terrain.mjcf import GROUND_BIT
+
+    for touches in (True, False):
+        t = trial.bound(get_method("cwc-tdt"), dataset.get("A-03"), override(MRSConfig(), {"chain.bumper_touches_ground": touches}))
+        m = t.model
+        g = int(np.flatnonzero(m.geom_bodyid == m.body("bumper").id)[0])
+        assert bool(m.geom_conaffinity[g] & GROUND_BIT) == touches
+        assert m.geom_contype[g] != 0  # still collides with the other units

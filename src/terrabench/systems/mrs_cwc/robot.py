@@ -78,6 +78,10 @@ class ChainConfig:
             removes the creep of all friction rows (contacts and the drive tendons), making
             static friction hard as in Bullet's sequential-impulse solver.
         bumper_radius, bumper_thickness, bumper_mass, bumper_ahead, bumper_up: the leader's disc.
+        bumper_touches_ground: whether the bumper collides with the terrain (default, the
+            released scene) or only with the other units: a diagnostic switch for the study of
+            leaders that rest on their bumper with their wheels in the air
+            (benchmarks/leader_contact_study.py, docs/mrs-cwc-findings.md).
         link_mass_spring: each of the two link masses of the spring variant (kg).
         link_mass_motor: the link mass of the motor variant (kg).
         k_pitch: pitch spring (N m/rad).  k_roll: roll spring (N m/rad).
@@ -121,6 +125,7 @@ class ChainConfig:
     bumper_mass: float = 2.8
     bumper_ahead: float = 0.12
     bumper_up: float = 0.05
+    bumper_touches_ground: bool = True
     link_mass_spring: float = 0.4
     link_mass_motor: float = 1.3
     k_pitch: float = 15.0
@@ -217,7 +222,7 @@ def _unit_body(parent: mujoco.MjsBody, k: int, pos, cfg: ChainConfig, leader: bo
             size=[cfg.bumper_radius, cfg.bumper_thickness / 2, 0],
             mass=cfg.bumper_mass,
             contype=ROBOT_BIT,
-            conaffinity=GROUND_BIT | ROBOT_BIT,
+            conaffinity=(GROUND_BIT if cfg.bumper_touches_ground else 0) | ROBOT_BIT,
             condim=1,
             priority=1,
             friction=[0, 0, 0],

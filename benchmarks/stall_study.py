@@ -11,7 +11,7 @@ and the table says "exact" only where the thinned minimum before the stop equals
 that each ends ``stuck`` at the predicted instant (the first N in key order, longest stall
 time first).
 
-Usage: python benchmarks/stall_study.py STORE [--times 60,120,240] [--verify 6]
+Usage: python benchmarks/stall_study.py STORE [--times 60,120,240] [--verify 6] [--seeds 0]
 """
 
 from __future__ import annotations
@@ -73,10 +73,11 @@ def replay(series: dict[str, list[float]], cfg: dict, status: str, stall_time: f
     return None
 
 
-def study(path: str, times: list[float]) -> dict[float, list[Outcome]]:
+def study(path: str, times: list[float], seeds: set[int] | None = None) -> dict[float, list[Outcome]]:
     con = duckdb.connect(path, read_only=True)
     rows = con.execute("select key, scenario, method, instance, seed, status, metrics, config from trials "
                        "where system = 'mrs-cwc' order by key").fetchall()
+    rows = [r for r in rows if seeds is None or r[4] in seeds]
     out: dict[float, list[Outcome]] = {s: [] for s in times}
     for key, scen, method, inst, seed, status, met, conf in rows:
         m, cfg = json.loads(met), json.loads(conf)
@@ -156,9 +157,10 @@ def main() -> None:
     ap.add_argument("store")
     ap.add_argument("--times", default="60,120,240", help="stall times to replay (s), comma-separated")
     ap.add_argument("--verify", type=int, default=0, help="re-run this many predicted stops")
+    ap.add_argument("--seeds", default=None, help="only these seeds, comma-separated (default: all)")
     a = ap.parse_args()
     times = [float(x) for x in a.times.split(",")]
-    out = study(a.store, times)
+    out = study(a.store, times, None if a.seeds is None else {int(x) for x in a.seeds.split(",")})
     summarise(out)
     if a.verify:
         raise SystemExit(1 if verify(out, a.verify) else 0)

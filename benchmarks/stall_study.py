@@ -1,7 +1,8 @@
 """What the opt-in stall stop (``protocol.stall_time``) would have saved and changed, per store.
 
 Replays every stored MRS-CWC trial's leader series through the same rule the episode applies
-(:class:`terrabench.sim.stall.StallWatch`) at the same instants (the slow checks, every
+(:class:`terrabench.sim.stall.StallWatch`, via :func:`~terrabench.sim.stall.first_stall`, whose
+agreement with the episode is tested) at the same instants (the slow checks, every
 ``protocol.divergence_check_period``; the stored series holds every one of them), for each
 stall time asked for. Exact for the stop instant and the status; for NCR the series is
 thinned (every ``log_period``), so a d_min that improved between stored samples is bounded,
@@ -23,7 +24,7 @@ from dataclasses import dataclass
 
 import duckdb
 
-from terrabench.sim.stall import StallWatch
+from terrabench.sim.stall import first_stall
 
 
 @dataclass
@@ -51,26 +52,11 @@ def _protocol(cfg: dict):
 def replay(series: dict[str, list[float]], cfg: dict, status: str, stall_time: float) -> float | None:
     """The instant (s) the stall stop fires on this stored trial, or None."""
     pr = _protocol(cfg)
-    period = pr.control_period
-    stride = max(1, int(round(pr.log_period / period)))
-    every = max(1, int(round(pr.divergence_check_period / period)))
-    tx, ty = pr.target_xy
-    watch = StallWatch(stall_time, pr.stall_distance)
-    t, x, y = series["t"], series["x"], series["y"]
-    last = len(t) - 1
-    for i in range(len(t)):
-        k = int(round(t[i] / period))
-        if i < last and k != i * stride:
-            raise ValueError(f"series row {i} at t={t[i]} is not on the {stride}-period grid")
-        if k % every:
-            continue
-        # the last row is the stop: success / fell are checked before the stall rule, the time
-        # limit after it
-        if i == last and status not in ("timeout",):
-            break
-        if watch.update(k * period, x[i], y[i], math.hypot(tx - x[i], ty - y[i])):
-            return k * period
-    return None
+    # the last row is the stop: success / fell are checked before the stall rule, the time
+    # limit after it
+    return first_stall(series["t"], series["x"], series["y"], pr.target_xy, period=pr.control_period,
+                       check_period=pr.divergence_check_period, stall_time=stall_time,
+                       distance=pr.stall_distance, check_last=status == "timeout")
 
 
 def study(path: str, times: list[float], seeds: set[int] | None = None) -> dict[float, list[Outcome]]:

@@ -292,3 +292,23 @@ def test_the_bumper_ground_switch_only_removes_bumper_terrain_contact():
         g = int(np.flatnonzero(m.geom_bodyid == m.body("bumper").id)[0])
         assert bool(m.geom_conaffinity[g] & GROUND_BIT) == touches
         assert m.geom_contype[g] != 0  # still collides with the other units
+
+
+def test_a_stored_series_replays_to_the_stop_the_episode_makes(flat_terrain):
+    """benchmarks/stall_study.py predicts stops from stored series; the prediction must be the
+    instant at which the episode, run with the stop on, really stops."""
+    from terrabench.sim.stall import first_stall
+
+    cfg = MRSConfig().protocol
+    slow = {"drive.wheel_speed": 0.0, "protocol.timeout": 12.0}  # a chain that never moves
+    r = trial.run(get_method("cs-tdt"), flat_terrain, override(MRSConfig(), slow))
+    ts = r.timeseries
+    predicted = first_stall(ts["t"], ts["x"], ts["y"], cfg.target_xy, period=cfg.control_period,
+                            check_period=cfg.divergence_check_period, stall_time=4.0,
+                            distance=cfg.stall_distance, check_last=r.status == "timeout")
+    assert predicted is not None and 4.0 <= predicted < 12.0
+    stopped = trial.run(get_method("cs-tdt"), flat_terrain, override(MRSConfig(), {**slow, "protocol.stall_time": 4.0}))
+    assert stopped.status == "stuck" and stopped.metrics["sim_time"] == pytest.approx(predicted, abs=1e-9)
+    with pytest.raises(ValueError, match="skips slow-check"):
+        first_stall(ts["t"][::7], ts["x"][::7], ts["y"][::7], cfg.target_xy, period=cfg.control_period,
+                    check_period=cfg.divergence_check_period, stall_time=4.0, distance=cfg.stall_distance)

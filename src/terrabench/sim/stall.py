@@ -44,3 +44,29 @@ class StallWatch:
 
     def reason(self) -> str:
         return f"moved < {self.distance:g} m and d_min did not improve for {self.time:g} s"
+
+
+def first_stall(t, x, y, target_xy: tuple[float, float], *, period: float, check_period: float,
+                stall_time: float, distance: float, check_last: bool = True) -> float | None:
+    """When the stall stop would have fired on a stored leader series (s), or None.
+
+    ``t, x, y``: the stored series (a whole number of control periods apart, the last row the
+    stop). The samples at the episode's slow checks (multiples of ``check_period``) are fed to
+    a :class:`StallWatch`, as the episode feeds them; ``check_last=False`` leaves out the last
+    row, for a trial that stopped there on a check that runs before the stall rule (success,
+    a fall). Exact when every slow-check instant is a stored row (the MRS-CWC series: 0.1 s
+    rows, 0.5 s checks); a ValueError otherwise.
+    """
+    every = max(1, int(round(check_period / period)))
+    watch = StallWatch(stall_time, distance)
+    tx, ty = target_xy
+    ks = [int(round(v / period)) for v in t]
+    if ks and not set(range(0, ks[-1] + 1, every)) <= set(ks):
+        raise ValueError("the series skips slow-check instants; it cannot be replayed exactly")
+    last = len(ks) - 1
+    for i, k in enumerate(ks):
+        if k % every or (i == last and not check_last):
+            continue
+        if watch.update(k * period, x[i], y[i], math.hypot(tx - x[i], ty - y[i])):
+            return k * period
+    return None

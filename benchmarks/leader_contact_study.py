@@ -33,46 +33,37 @@ def probe(args: tuple[str, str, str, int, dict, int]) -> dict:
     system = catalog.system("mrs-cwc")
     scenario, method, instance, seed, config, every = args
     spec = TrialSpec("mrs-cwc", scenario, method, instance, seed, config)
+    chain = system.load_config(config).chain
+    weight = 9.81 * (chain.body_mass + 2 * chain.wheel_mass + chain.bumper_mass)  # the leader's
     samples: list[tuple[float, ...]] = []
-    ids: dict[str, set[int]] = {}
+    part_of: dict[int, int] = {}  # leader geom -> 0 wheels, 1 bumper, 2 body (built on first call)
 
     def on_step(task, obs, cmd) -> None:
         m, d = task.model, task.data
-        if not ids:
-            body = lambda name: m.body(name).id  # noqa: E731
-            wheels = {body("unit0_wheel_left"), body("unit0_wheel_right")}
-            ids["wheel"] = {g for g in range(m.ngeom) if m.geom_bodyid[g] in wheels}
-            ids["bumper"] = {g for g in range(m.ngeom) if m.geom_bodyid[g] == body("bumper")}
-            ids["body"] = {g for g in range(m.ngeom) if m.geom_bodyid[g] == body("unit0")}
+        if not part_of:
+            parts = {m.body("unit0_wheel_left").id: 0, m.body("unit0_wheel_right").id: 0,
+                     m.body("bumper").id: 1, m.body("unit0").id: 2}
+            part_of.update({g: parts[int(b)] for g, b in enumerate(m.geom_bodyid) if int(b) in parts})
         if round(obs.t / task.timing.control_period) % every:
             return
         f = np.zeros(6)
-        load = {"wheel": 0.0, "bumper": 0.0, "body": 0.0}
+        load = [0.0, 0.0, 0.0]
         for i in range(d.ncon):
             c = d.contact[i]
-            for part, geoms in (("wheel", ids["wheel"]), ("bumper", ids["bumper"]), ("body", ids["body"])):
-                if c.geom1 in geoms or c.geom2 in geoms:
-                    mujoco.mj_contactForce(m, d, i, f)
-                    load[part] += f[0]
+            for g in {c.geom1, c.geom2} & part_of.keys():
+                mujoco.mj_contactForce(m, d, i, f)
+                load[part_of[g]] += f[0]
         tl, tr = obs.wheel_torque[0]
-        samples.append((obs.t, load["wheel"], load["bumper"], load["body"], abs(tl), abs(tr), abs(cmd.tau_env)))
+        samples.append((obs.t, *load, abs(tl), abs(tr), abs(cmd.tau_env)))
 
     result = system.run_trial(spec, on_step=on_step)
     return {"method": method, "instance": instance, "seed": seed, "status": result.status,
-            "samples": np.array(samples)}
-
-
-def leader_weight() -> float:
-    """Leader body + wheels + bumper (N), from the default chain."""
-    from terrabench.systems.mrs_cwc.robot import ChainConfig
-
-    c = ChainConfig()
-    return 9.81 * (c.body_mass + 2 * c.wheel_mass + c.bumper_mass)
+            "samples": np.array(samples), "weight": weight}
 
 
 def describe(r: dict, tail: float) -> str:
     s = r["samples"]
-    w = 0.1 * leader_weight()
+    w = 0.1 * r["weight"]
     out = []
     for label, sel in (("all", np.ones(len(s), bool)), (f"last {tail:g} s", s[:, 0] >= s[-1, 0] - tail)):
         x = s[sel]
@@ -111,10 +102,9 @@ def main() -> None:
         results = list(pool.map(probe, todo))
     for r in results:
         print(describe(r, a.tail))
-    w = 0.1 * leader_weight()
     for st in sorted({r["status"] for r in results}):
         sel = [r for r in results if r["status"] == st]
-        un = [100 * (r["samples"][:, 1] < w).mean() for r in sel]
+        un = [100 * (r["samples"][:, 1] < 0.1 * r["weight"]).mean() for r in sel]
         print(f"{st}: {len(sel)} trials, leader wheels unloaded: median {np.median(un):.1f} % of the trial "
               f"(range {min(un):.1f}-{max(un):.1f})")
 

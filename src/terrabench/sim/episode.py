@@ -81,7 +81,8 @@ class EpisodeLog:
         columns: names of ``data``'s columns: the task's columns, then ``"energy"`` (J).
         data: (steps + 1, len(columns)) rows, one per control instant, the last one with the
             command columns NaN (no command was issued at the stop).
-        timing: wall-clock figures (s): ``wall``, ``loop``, ``engine`` (inside ``mj_step``)
+        timing: wall-clock figures (s): ``wall``, ``loop``, ``engine`` (inside ``mj_step``),
+            ``cpu`` (this process's CPU time over the loop, what ``terrabench perf`` compares)
             and ``physics_steps``.
     """
 
@@ -152,11 +153,11 @@ class Episode:
         self.k = 0
         self.stop: tuple[str, str] | None = None
         self.engine_time = 0.0
-        self._loop0 = 0.0
+        self._loop0 = self._cpu0 = 0.0
 
     def begin(self):
         """Observe the dropped start; returns ``(obs, stop)`` (stop is None or (status, reason))."""
-        self._loop0 = time.perf_counter()
+        self._loop0, self._cpu0 = time.perf_counter(), time.process_time()
         return self._observe()
 
     def _observe(self):
@@ -209,7 +210,7 @@ class Episode:
         status, reason = self.stop or ("running", "not finished")
         now = time.perf_counter()
         timing = {"wall": now - self.wall0, "loop": now - self._loop0, "engine": self.engine_time,
-                  "physics_steps": float(self.k * self.nsub)}
+                  "cpu": time.process_time() - self._cpu0, "physics_steps": float(self.k * self.nsub)}
         return EpisodeLog(status, reason, self.k, self.period, self.columns, self._log[:n], timing)
 
 

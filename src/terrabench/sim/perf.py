@@ -11,7 +11,8 @@ For each instance, passes from the same start, through the system contract:
    controller, no logging.
 
 Loop and raw alternate ``repeats`` times and each keeps its fastest pass. Both are timed in
-CPU time of this process (``time.process_time``), so a busy machine (another benchmark on the
+CPU time of this process (``time.process_time``; the loop's is the episode's own ``cpu``
+timing), so a busy machine (another benchmark on the
 other core) slows neither side's figure by preemption; scene compilation is outside both.
 
 Reported: physics steps/s, real-time factor (simulated s per CPU s), loop/raw (1.0 = the
@@ -27,7 +28,7 @@ from typing import Any, Sequence
 import mujoco
 import numpy as np
 
-from terrabench.sim.episode import Episode, run_episode
+from terrabench.sim.episode import run_episode
 from terrabench.sim.scene import compile_scene
 
 
@@ -50,17 +51,15 @@ def measure(system: Any, method: str | None, instances: Sequence[str] | None, se
     for spec in specs:
         cfg = system.load_config(spec.config)
         try:
-            task = system.make_task(spec, cfg)
+            commands = _record(system, spec, cfg)
         except NotImplementedError:
             raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop; "
                              f"perf times systems that do (see `terrabench list`)") from None
-        del task
-        commands = _record(system, spec, cfg)
         loop_time = raw_time = float("inf")
         for _ in range(repeats):
             task = system.make_task(spec, cfg)
-            log, cpu = _loop(task, system.make_controller(spec, cfg, task))
-            loop_time = min(loop_time, cpu)
+            log = run_episode(task, system.make_controller(spec, cfg, task))
+            loop_time = min(loop_time, log.timing["cpu"])
             raw_time = min(raw_time, _replay(system.make_task(spec, cfg), commands))
         steps = log.timing["physics_steps"]
         rows.append({
@@ -70,17 +69,6 @@ def measure(system: Any, method: str | None, instances: Sequence[str] | None, se
             "loop_over_raw": raw_time / loop_time, "engine_share": log.timing["engine"] / log.timing["loop"],
         })
     return rows
-
-
-def _loop(task: Any, controller: Any) -> tuple[Any, float]:
-    """``run_episode``'s loop, timed in CPU time from the first observation to the stop."""
-    ep = Episode(task)
-    c0 = time.process_time()
-    obs, stop = ep.begin()
-    step = ep.step
-    while stop is None:
-        obs, stop = step(controller(obs))
-    return ep.log(), time.process_time() - c0
 
 
 def _record(system: Any, spec, cfg) -> list[Any]:

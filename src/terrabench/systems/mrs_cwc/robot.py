@@ -47,8 +47,9 @@ class ChainConfig:
         wheel_radius: (m).  wheel_width: (m).  wheel_mass: each (kg).
         wheel_shape: collision shape of the wheels against the ground: ``"cylinder"`` (the
             released model, default) or ``"sphere"`` of the wheel radius (cheaper narrow phase
-            against the height field: a speed option, measured in docs/performance.md). The
-            wheel's mass and inertia stay the cylinder's in both.
+            against the height field, ~1.14x, but it changes group-B outcomes materially:
+            docs/mrs-cwc-findings.md, "Wheel geometry"). The wheel's mass and inertia stay the
+            cylinder's in both.
         track_half: lateral offset of each wheel (m).  axle_drop: axle below body centre (m).
         wheel_friction: effective wheel-ground friction (Bullet multiplies the pair's 1.0 and 2.0).
         wheel_kv: velocity-servo gain of the wheel motors (N m s/rad); 100/1.5 makes the
@@ -298,6 +299,15 @@ def add_chain(
     if cfg.noslip_iterations:
         spec.option.noslip_iterations = cfg.noslip_iterations
     _add_sensors(spec, variant, cfg)
+
+
+def drive_ref_dof(model: mujoco.MjModel) -> int | None:
+    """First dof address of the constraint drive's reference hinges (``2 n_units`` consecutive
+    dofs in (unit, left/right) order), or None when the chain has the servo drive."""
+    try:
+        return int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
+    except KeyError:
+        return None
 
 
 def _add_constraint_drive(spec: mujoco.MjSpec, cfg: ChainConfig) -> None:

@@ -12,7 +12,7 @@ import math
 import mujoco
 import numpy as np
 
-from terrabench.systems.mrs_cwc.robot import Names
+from terrabench.systems.mrs_cwc.robot import Names, drive_ref_dof
 
 
 _TWO_PI = 2 * np.pi
@@ -60,10 +60,10 @@ class Observation:
         self.pos, self.xaxis, self.angvel = per_unit[:, 0:3], per_unit[:, 3:6], per_unit[:, 6:9]
         a = adr(f"{Names.wheel(0, 'left')}_vel")
         self.wheel_speed = sd[a : a + 2 * n_units].reshape(n_units, 2)
-        if self._has_joint(model, Names.drive_ref(0, "left")):
+        a = drive_ref_dof(model)
+        if a is not None:
             # constraint drive (ChainConfig.wheel_drive): the wheel torque is the friction
             # tendon's force, i.e. the constraint force on the (otherwise free) reference dof
-            a = int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
             self.wheel_torque = data.qfrc_constraint[a : a + 2 * n_units].reshape(n_units, 2)
         else:
             a = adr(f"{Names.motor(0, 'left')}_torque")
@@ -78,14 +78,6 @@ class Observation:
         self._data = data
         self._target = target_xy
         self.refresh()
-
-    @staticmethod
-    def _has_joint(model: mujoco.MjModel, name: str) -> bool:
-        try:
-            model.joint(name)
-            return True
-        except KeyError:
-            return False
 
     @staticmethod
     def _has(model: mujoco.MjModel, name: str) -> bool:

@@ -18,7 +18,7 @@ from terrabench.systems.base import TaskBase
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import BODY_LAWS, Method
-from terrabench.systems.mrs_cwc.robot import Names, add_chain
+from terrabench.systems.mrs_cwc.robot import Names, add_chain, drive_ref_dof
 from terrabench.systems.mrs_cwc.sensing import Observation
 from terrabench.terrain import dataset, sine_sum
 from terrabench.terrain.mjcf import add_heightfield
@@ -80,16 +80,15 @@ class MRSTask(TaskBase):
         ch = self.cfg.chain
         self._constraint_drive = ch.wheel_drive == "constraint"
         if self._constraint_drive:
-            a = int(model.jnt_dofadr[model.joint(Names.drive_ref(0, "left")).id])
+            a = drive_ref_dof(model)
             self._ref_vel = data.qvel[a : a + 2 * n].reshape(n, 2)
-            self._err_max = float("inf")
         else:
             self._err_max = ch.wheel_torque_limit / ch.wheel_kv
-        self._target = pr.target_xy
         self._thr2 = pr.success_threshold ** 2
         wheels = index_view(data.ctrl, self.wheel_act)
-        # a view (no fancy indexing) when the motors are consecutive: always, by construction
-        self._wheel_ctrl = wheels.reshape(n, 2) if np.shares_memory(wheels, data.ctrl) else None
+        if not np.shares_memory(wheels, data.ctrl):  # add_chain adds the motors in this order
+            raise ValueError(f"the wheel motors must be consecutive actuators, got ids {self.wheel_act.ravel()}")
+        self._wheel_ctrl = wheels.reshape(n, 2)  # the clamp writes straight into data.ctrl
         self._set_stiffness = writer(model.jnt_stiffness, self.yaw_joints)
         self._set_yaw_targets = writer(data.ctrl, self.yaw_servos)
         self._power_buf = np.zeros((n, 2))
@@ -126,18 +125,13 @@ class MRSTask(TaskBase):
         return None
 
     def apply(self, cmd: ctl.Command) -> None:
-        d, obs = self.data, self.obs
         if self._constraint_drive:
             # the velocity constraint's reference; its frictionloss is the torque limit
             np.negative(cmd.wheel_speed, out=self._ref_vel)
         else:
             # the drive's torque limit, applied to the speed error the servo sees
-            ws, err = obs.wheel_speed, self._err_max
-            out = self._wheel_ctrl
-            if out is None:
-                d.ctrl[self.wheel_act] = np.minimum(np.maximum(cmd.wheel_speed, ws - err), ws + err)
-            else:
-                np.minimum(np.maximum(cmd.wheel_speed, ws - err, out=out), ws + err, out=out)
+            ws, err, out = self.obs.wheel_speed, self._err_max, self._wheel_ctrl
+            np.minimum(np.maximum(cmd.wheel_speed, ws - err, out=out), ws + err, out=out)
         if cmd.yaw_stiffness is not None:
             self._set_stiffness(cmd.yaw_stiffness)
         if self._has_servo:

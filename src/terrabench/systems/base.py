@@ -85,9 +85,48 @@ class TaskBase:
 
 
 class Controller(Protocol):
-    """``obs -> cmd``: sees only the task's observation."""
+    """``obs -> cmd``: sees only the task's observation.
+
+    A controller may also define ``info() -> dict`` (JSON-serialisable): it is merged into the
+    trial's stored ``info`` after the episode (see :func:`episode_result`). Controllers with
+    discrete states record their changes as :class:`Transition` records and return them with
+    :func:`events_info` under the key ``"events"``; reports draw a mode timeline from them.
+    """
 
     def __call__(self, obs: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Transition:
+    """One state change of a controller: at ``t`` (s, simulated) from ``src`` to ``dst``.
+
+    ``reason`` is one line a reader understands (e.g. ``"pitch 1.21 rad >= 1.2"``). Stored in a
+    trial's ``info["events"]`` as ``[t, src, dst, reason]`` lists (see :func:`events_info`).
+    """
+
+    t: float
+    src: str
+    dst: str
+    reason: str = ""
+
+    def as_list(self) -> list[Any]:
+        return [round(float(self.t), 6), self.src, self.dst, self.reason]
+
+    @classmethod
+    def from_list(cls, item: Sequence[Any]) -> "Transition":
+        t, src, dst, *rest = item
+        return cls(float(t), str(src), str(dst), str(rest[0]) if rest else "")
+
+
+def events_info(events: Sequence[Transition]) -> dict[str, Any]:
+    """``{"events": [...]}`` for a controller's ``info()``: the transitions as JSON lists."""
+    return {"events": [e.as_list() for e in events]}
+
+
+def controller_info(controller: Any) -> dict[str, Any]:
+    """The controller's ``info()`` extras, or ``{}`` when it defines none."""
+    fn = getattr(controller, "info", None)
+    return dict(fn()) if callable(fn) else {}
 
 
 @dataclass(frozen=True)
@@ -243,19 +282,20 @@ def run_task(task: Task, controller: Callable[[Any], Any], *, on_step: Callable 
     """One episode of ``task`` driven by ``controller``, as a trial result (:func:`episode_result`)."""
     from terrabench.sim.episode import run_episode
 
-    return episode_result(task, run_episode(task, controller, on_step=on_step))
+    return episode_result(task, run_episode(task, controller, on_step=on_step), controller)
 
 
-def episode_result(task: Task, log: Any) -> TrialResult:
+def episode_result(task: Task, log: Any, controller: Any = None) -> TrialResult:
     """A finished episode's :class:`TrialResult` (the benchmark's and the Gymnasium env's).
 
     Metrics are the task's plus ``sim_time``; the series is the log thinned to
-    ``task.timing.log_period``; ``info`` holds the stop reason, the task's ``info()`` extras and
-    the timing figures; the wall time is the episode's, scene compilation included.
+    ``task.timing.log_period``; ``info`` holds the stop reason, the task's and the controller's
+    ``info()`` extras (:func:`controller_info`, e.g. its ``events``) and the timing figures; the
+    wall time is the episode's, scene compilation included.
     """
     metrics = task.metrics(log)
     metrics["sim_time"] = log.sim_time
-    info = {"reason": log.reason, **task.info(), "control_steps": log.steps,
+    info = {"reason": log.reason, **task.info(), **controller_info(controller), "control_steps": log.steps,
             "physics_steps": int(log.timing["physics_steps"]), "wall_time": log.timing["wall"],
             "loop_time": log.timing["loop"], "engine_time": log.timing["engine"]}
     return TrialResult(log.status, metrics, log.thinned(task.timing.log_period), log.timing["wall"], info)

@@ -16,7 +16,7 @@ from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, Robot
                                             contact_scalar, critical_stiffness, deflection_vec,
                                             generalized_forces, potential_energy, simulate)
 from terrabench.config import override
-from terrabench.systems.beams.scenarios import TrialConfig
+from terrabench.systems.beams.config import TrialConfig
 
 ROBOT, LAYOUT = RobotParams(), BeamLayout()
 POSES = [(-0.05, 0.0, 0.0), (-0.03, 0.2, 0.3), (0.0, 0.1, 0.5), (0.05, -0.3, 0.2), (-0.02, 0.4, -0.1)]

@@ -15,6 +15,7 @@ from terrabench.benchmark.trial import TrialResult, TrialSpec
 from terrabench.systems.base import MethodInfo, System
 
 from . import scenarios as _sc
+from .config import TrialConfig
 
 __all__ = ["SYSTEM", "BeamsSystem", "register"]
 
@@ -24,7 +25,7 @@ class BeamsSystem(System):
 
     id = _sc.SYSTEM_ID
     summary = "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through"
-    config_cls = _sc.TrialConfig
+    config_cls = TrialConfig
     groups = {g: g for g in _sc.GROUPS}
     timeout_key = "protocol.timeout"
     headline_metrics = ()
@@ -42,7 +43,8 @@ class BeamsSystem(System):
 
     def run_trial(self, spec: TrialSpec, *, on_step=None) -> TrialResult:
         """Run one trial (deterministic in spec.config and spec.seed)."""
-        return _sc.run_trial(spec)
+        from .trials import run_trial
+        return run_trial(spec)
 
     def summarize(self, rows: list[dict[str, Any]]) -> Any:
         """A rich table of stored rows beside the paper's numbers."""
@@ -78,5 +80,5 @@ def register(registry) -> None:
         registry.register(Record("scenario", sid, summaries[g], "terrabench.systems.beams.scenarios:plan_specs",
                                  _sc.SYSTEM_ID, ("beams", g)))
     for m, text in _sc.METHODS.items():
-        registry.register(Record("method", m, text, "terrabench.systems.beams.scenarios:run_trial",
+        registry.register(Record("method", m, text, "terrabench.systems.beams.trials:run_trial",
                                  _sc.SYSTEM_ID, ("beams",) + _sc.METHOD_GROUP[m]))

@@ -15,6 +15,7 @@ from typing import Callable, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape as rich_escape
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Robots that cross unknown rough terrain by touching it.")
@@ -25,6 +26,10 @@ err_console = Console(stderr=True)
 
 DEFAULT_STORE = Path("results") / "terrabench.duckdb"
 
+#: ``terrabench --debug``: bad input also prints its traceback (e.g. a system that fails to import)
+DEBUG = {"on": False}
+
+
 def friendly(fn: Callable) -> Callable:
     """Turn ValueError (our 'bad input' signal) into one clear line and exit status 2."""
 
@@ -33,7 +38,9 @@ def friendly(fn: Callable) -> Callable:
         try:
             return fn(*args, **kwargs)
         except ValueError as exc:
-            err_console.print(f"[bold red]error:[/] {exc}", highlight=False, soft_wrap=True)
+            if DEBUG["on"]:
+                err_console.print_exception()
+            err_console.print(f"[bold red]error:[/] {rich_escape(str(exc))}", highlight=False, soft_wrap=True)
             raise typer.Exit(2) from None
 
     return wrapper
@@ -47,6 +54,22 @@ def _split(value: Optional[str], flag: str = "") -> Optional[list[str]]:
         raise ValueError(f"{flag or 'a list option'} was given an empty list ({value!r}); name at least one id")
     return items
 
+def _limit_overrides(sysobj, overrides: dict, *, timeout: Optional[float] = None,
+                     threshold: Optional[float] = None) -> dict:
+    """``--timeout`` / ``--threshold`` as the config keys the system names (one mapping for every
+    command); checked positive; ValueError when the system has no such setting."""
+    from terrabench.systems.base import check_finite_positive
+
+    for value, key, flag, unit in ((timeout, sysobj.timeout_key, "--timeout", "simulated seconds"),
+                                   (threshold, sysobj.threshold_key, "--threshold", "m")):
+        if value is not None:
+            check_finite_positive(flag, value, unit)
+            if key is None:
+                raise ValueError(f"system {sysobj.id!r} has no {flag} setting")
+            overrides[key] = value
+    return overrides
+
+
 def _version(value: bool) -> None:
     if value:
         from terrabench._version import __version__
@@ -56,8 +79,10 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
-                                       help="print the version and exit")) -> None:
+                                       help="print the version and exit"),
+          debug: bool = typer.Option(False, "--debug", help="print the traceback of an error, too")) -> None:
     """Robots that cross unknown rough terrain by touching it."""
+    DEBUG["on"] = debug
 
 @app.command("list")
 @friendly
@@ -101,12 +126,6 @@ def run(
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
 
-    from terrabench.systems.base import check_finite_positive
-
-    if timeout is not None:
-        check_finite_positive("--timeout", timeout, "simulated seconds")
-    if threshold is not None:
-        check_finite_positive("--threshold", threshold, "m")
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
     if workers is not None and workers < 1:
@@ -117,11 +136,7 @@ def run(
         raise ValueError(f"--seeds must be at least 1, got {seeds}")
     sysobj = get_system(system)
     overrides = parse_overrides(set_)
-    for value, key, flag in ((timeout, sysobj.timeout_key, "--timeout"), (threshold, sysobj.threshold_key, "--threshold")):
-        if value is not None:
-            if key is None:
-                raise ValueError(f"system {system!r} has no {flag} setting")
-            overrides[key] = value
+    _limit_overrides(sysobj, overrides, timeout=timeout, threshold=threshold)
     if group is not None and not group.strip():
         raise ValueError(f"--group was given an empty value; valid: {', '.join(list(sysobj.groups) + ['all'])}")
     specs = sysobj.plan(methods=_split(methods, "--methods"), instances=_split(terrains, "--terrains"),
@@ -329,10 +344,7 @@ def render(
         raise ValueError(f"--width and --height must be positive, got {width}x{height}")
     sysobj = get_system(system)
     overrides = parse_overrides(set_ or [])
-    if timeout is not None:
-        if sysobj.timeout_key is None:
-            raise ValueError(f"system {system!r} has no time limit to set")
-        overrides[sysobj.timeout_key] = timeout
+    _limit_overrides(sysobj, overrides, timeout=timeout)
     spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,
                        overrides=overrides)[-1]
     from terrabench.report.render import render_trial

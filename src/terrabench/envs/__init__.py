@@ -22,15 +22,12 @@ def register_envs() -> list[str]:
     """Register every system's ``env_ids`` with Gymnasium (idempotent); returns the ids."""
     import gymnasium
 
-    from terrabench.catalog import SYSTEM_MODULES
+    from terrabench.catalog import populate
     from terrabench.catalog import system as get_system
 
     ids: list[str] = []
-    for sid in SYSTEM_MODULES:
-        try:
-            sysobj = get_system(sid)
-        except ValueError:  # a system still being built is absent from the catalogue
-            continue
+    for sid in populate().ids("system"):
+        sysobj = get_system(sid)
         for env_id in sysobj.env_ids:
             if env_id not in gymnasium.registry:
                 gymnasium.register(id=env_id, entry_point=ENTRY_POINT, kwargs={"system": sid})

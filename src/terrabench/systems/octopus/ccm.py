@@ -2,10 +2,12 @@
 
 The paper's CCM was driven by two operators; this stand-in follows the autonomous flipper
 sequences of Nagatani, Yamasaki & Yoshida (IROS 2008) and Okada, Nagatani & Yoshida (IROS 2009):
-approach with the front flippers raised; on contact (flipper torque rule drives the flippers up
-to their limit, or the pitch rises) press the front flippers down on the edge and push with the
-rear flippers; flatten once the nose is over (pitch falls back); abort past ``abort_pitch``.
-Arms as in the paper's CCM trials: rear arms lifted, front arms at their original (stowed) pose.
+approach with the front flippers raised and held; on contact (the flippers pushed by an edge
+once they have settled, or the pitch rising) press the front flippers down on the edge and push
+with the rear flippers; flatten once the nose is over (pitch falls back). A climb that stalls
+(no pitch gain for ``stall_time``) backs off and retries, up to ``retries`` times, as an operator
+would. The abort sits at or above the turned-over threshold, so the controller never hides the
+outcome. Arms as in the paper's CCM trials: rear arms lifted, front arms at their original pose.
 """
 
 from __future__ import annotations
@@ -14,9 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from terrabench.systems.base import Transition, events_info
 from terrabench.systems.octopus.clm import Command, flipper_rule
 
-APPROACH, PRESS, PUSH, FLATTEN, ABORT = 0, 1, 2, 3, 4
+APPROACH, PRESS, PUSH, FLATTEN, ABORT, BACK_OFF = 0, 1, 2, 3, 4, 5
+MODE_NAMES = {APPROACH: "approach", PRESS: "press", PUSH: "push", FLATTEN: "flatten", ABORT: "abort",
+              BACK_OFF: "back-off"}
 
 
 @dataclass(frozen=True)
@@ -25,7 +30,11 @@ class CCMConfig:
 
     Attributes:
         track_speed: crawler speed (m/s).
-        front_approach: front flipper angle while approaching (rad).
+        front_approach: front flipper angle while approaching (rad), held; 0.05 rad below the cap
+            a0, so reaching the cap means an edge lifted the flipper.
+        settle_time: the torque rule ignores the flippers' own (self-caused) torque until they
+            have been within ``settle_tol`` of their command this long (s).
+        settle_tol: rad.
         t0, d_a, a0, d_b: the paper's flipper torque rule (N m, rad/tick, rad, rad/tick); the
             limit a0 is the climbing angle here (57 deg), not the joint's 85 deg: a flipper raised
             to 85 deg stands like a wall against the riser and the crawler stalls; at 57 deg its
@@ -37,14 +46,22 @@ class CCMConfig:
         push_pitch: pitch above which the rear flippers push (rad).
         flatten_pitch: while pushing, the rear flippers relax below this pitch (rad).
         level_time: level (|pitch| < 0.05 rad) this long while pushing = on the top: flatten (s).
-        abort_pitch: pitch beyond which the climb is aborted (rad).
+        abort_pitch: pitch at which the climb is aborted (rad); at or above the task's turned-over
+            threshold (1.2 rad) so the abort cannot prevent the outcome.
+        stall_time: pressing or pushing this long without a new pitch peak (> 0.02 rad) is a stall (s).
+        back_time: a stall backs off at -track_speed this long, then approaches again (s).
+        retries: back-offs before the controller keeps pushing to the end.
+        retry_pitch: each retry presses only once the pitch exceeds press_pitch + tries x this
+            (rad): the nose rears higher so the flippers can hook over a higher edge.
         d_flip: flipper step toward a target per 0.02 s tick (rad).
         stowed_arm: (swing, boom, elbow) of the front arms (rad): the original pose, every joint 0 (the
             paper keeps the front arms "in the original positions"); lifted_arm of the rear arms.
     """
 
     track_speed: float = 0.1
-    front_approach: float = 1.0
+    front_approach: float = 0.95
+    settle_time: float = 0.5
+    settle_tol: float = 0.05
     t0: float = 40.0
     d_a: float = 0.02
     a0: float = 1.0
@@ -55,7 +72,11 @@ class CCMConfig:
     push_pitch: float = 0.3
     flatten_pitch: float = 0.1
     level_time: float = 1.0
-    abort_pitch: float = 1.0
+    abort_pitch: float = 1.2
+    stall_time: float = 6.0
+    back_time: float = 3.0
+    retries: int = 2
+    retry_pitch: float = 0.3
     d_flip: float = 0.03
     stowed_arm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     lifted_arm: tuple[float, float, float] = (-1.2, -1.1, 2.4)
@@ -64,43 +85,79 @@ class CCMConfig:
 class CCMController:
     """``obs -> Command`` for the crawler-only mode."""
 
-    def __init__(self, cfg: CCMConfig):
-        self.cfg = cfg
+    def __init__(self, cfg: CCMConfig, dt: float = 0.02):
+        self.cfg, self.dt = cfg, dt
         self.cmd = Command()
         self.cmd.arm[:2] = cfg.stowed_arm
         self.cmd.arm[2:] = cfg.lifted_arm
         self.cmd.flip[:] = [cfg.front_approach, cfg.front_approach, 0.0, 0.0]
         self.state = APPROACH
         self.peak = 0.0
+        self.peak_t = 0.0
         self.level_t = 0.0
-        self.started = False
-        self.events: list[tuple[float, str]] = []
+        self.settled_t = 0.0
+        self.back_until = 0.0
+        self.tries = 0
+        self.tau_ref = np.zeros(2)
+        self.events: list[Transition] = []
+
+    def info(self) -> dict:
+        return events_info(self.events)
+
+    def _goto(self, t: float, dst: int, reason: str) -> None:
+        self.events.append(Transition(t, MODE_NAMES[self.state], MODE_NAMES[dst], reason))
+        self.state = dst
 
     def _toward(self, i: int, target: float) -> None:
         c = self.cmd.flip
         c[i] += float(np.clip(target - c[i], -self.cfg.d_flip, self.cfg.d_flip))
 
+    def _approach(self, obs) -> None:
+        cfg, c, p = self.cfg, self.cmd, obs.pitch
+        for f in (2, 3):
+            self._toward(f, 0.0)
+        if self.settled_t < cfg.settle_time:
+            # raise and hold: the flippers' torque is still their own motion, the rule waits
+            for f in (0, 1):
+                self._toward(f, cfg.front_approach)
+            err = float(np.abs(obs.q_flip[:2] - c.flip[:2]).max())
+            self.settled_t = self.settled_t + self.dt if err < cfg.settle_tol else 0.0
+            # the torque of a settled flipper on level ground (its pulley's drive friction, its
+            # weight) is its own: the rule reads the change from it
+            self.tau_ref[:] = obs.tau_flip[:2]
+            return
+        dtau = obs.tau_flip[:2] - self.tau_ref
+        for f in (0, 1):
+            # the torque rule on the measured angle A', but its hold case ("low") keeps the held
+            # command: holding the measured angle lets the flipper sag by its servo error a tick
+            a, case = flipper_rule(float(obs.q_flip[f]), float(dtau[f]), cfg.t0, cfg.d_a, cfg.a0, cfg.d_b)
+            if case != "low":
+                c.flip[f] = a
+        at_cap = min(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.05
+        pushed = float(np.abs(dtau).max()) > cfg.t0
+        # a retry rears the nose higher before pressing (an operator's second attempt); only the
+        # first approach presses on the flippers' edge contact alone
+        pp = cfg.press_pitch + self.tries * cfg.retry_pitch
+        if p > pp or (at_cap and pushed and not self.tries):
+            why = f"pitch {p:.2f} > {pp:.2f}" if p > pp else \
+                f"front flippers at {cfg.a0} rad pushed (torque change {np.abs(dtau).max():.0f} N m > {cfg.t0:g})"
+            self.peak, self.peak_t = p, obs.t
+            self._goto(obs.t, PRESS, why)
+
     def __call__(self, obs) -> Command:
         cfg, c = self.cfg, self.cmd
-        if not self.started:
-            # the arms fold from wherever they start, a little at a time
-            self.started = True
         c.track[:] = cfg.track_speed
         p = obs.pitch
-        self.peak = max(self.peak, p)
-        if self.state != ABORT and p > cfg.abort_pitch:
-            self.state = ABORT
-            self.events.append((obs.t, f"abort: pitch {p:.2f} rad"))
+        if p > self.peak + 0.02:
+            self.peak, self.peak_t = p, obs.t
+        if self.state != ABORT and abs(p) >= cfg.abort_pitch:
+            self._goto(obs.t, ABORT, f"|pitch| {abs(p):.2f} rad >= {cfg.abort_pitch}")
+        if self.state in (PRESS, PUSH) and obs.t - self.peak_t > cfg.stall_time and self.tries < cfg.retries:
+            self.tries += 1
+            self.back_until = obs.t + cfg.back_time
+            self._goto(obs.t, BACK_OFF, f"no pitch gain for {cfg.stall_time:g} s (try {self.tries} of {cfg.retries})")
         if self.state == APPROACH:
-            for f in (0, 1):
-                c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b)
-            # contact: the torque rule has raised the front flippers to their climbing angle and
-            # they still push back (an edge on their driving side), or the nose is already rising
-            at_cap = min(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.05
-            pushed = max(abs(obs.tau_flip[0]), abs(obs.tau_flip[1])) > cfg.t0
-            if p > cfg.press_pitch or (at_cap and pushed):
-                self.state = PRESS
-                self.events.append((obs.t, "front flippers on the edge: press"))
+            self._approach(obs)
         elif self.state == PRESS:
             # front flippers laid along the top (level in the world: angle = -pitch): they carry
             # the nose onto the top and drive; pressing further would only stand the robot up
@@ -108,8 +165,7 @@ class CCMController:
             self._toward(0, fp)
             self._toward(1, fp)
             if p > cfg.push_pitch:
-                self.state = PUSH
-                self.events.append((obs.t, "rear flippers push"))
+                self._goto(obs.t, PUSH, f"pitch {p:.2f} > {cfg.push_pitch}")
         elif self.state == PUSH:
             # pitch feedback: the front flippers stay level on the top, the rear ones push while
             # the nose is up and relax once it is down (a dip is not yet the top: no flatten)
@@ -117,16 +173,22 @@ class CCMController:
                 self._toward(f, max(-p, cfg.front_press))
             for f in (2, 3):
                 self._toward(f, cfg.rear_push if p > cfg.flatten_pitch else 0.0)
-            self.level_t = self.level_t + 0.02 if abs(p) < 0.05 else 0.0
+            self.level_t = self.level_t + self.dt if abs(p) < 0.05 else 0.0
             if self.level_t >= cfg.level_time:
-                self.state = FLATTEN
-                self.events.append((obs.t, "level on the top: flatten"))
+                self._goto(obs.t, FLATTEN, f"level for {cfg.level_time:g} s")
         elif self.state == FLATTEN:
             for f in range(4):
                 self._toward(f, 0.0)
             if abs(p) < 0.05 and np.abs(c.flip).max() < 0.05:
-                self.state, self.peak = APPROACH, 0.0
-                c.flip[:2] = cfg.front_approach
+                self.peak, self.settled_t = 0.0, 0.0
+                self._goto(obs.t, APPROACH, "flat")
+        elif self.state == BACK_OFF:
+            c.track[:] = -cfg.track_speed
+            for f in range(4):
+                self._toward(f, 0.0 if f > 1 else cfg.front_approach)
+            if obs.t >= self.back_until:
+                self.peak, self.settled_t, self.level_t = 0.0, 0.0, 0.0
+                self._goto(obs.t, APPROACH, f"backed off {cfg.back_time:g} s")
         else:  # ABORT: stop, flatten the flippers
             c.track[:] = 0.0
             for f in range(4):

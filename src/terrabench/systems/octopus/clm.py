@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from terrabench.systems.base import Transition, events_info
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.robot import ARMS, RobotConfig
 
@@ -236,6 +237,10 @@ class Command:
 
 # ---------------------------------------------------------------------------- controller
 WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
+#: names of the controller states (the logged ``mode`` codes) in events and timelines
+MODE_NAMES = {WALK: "walk", CLIMB: "climb", RELEASE: "release", INIT: "init"}
+#: arm sub-states in events: ``"<arm>.support"`` / ``"<arm>.transfer"``
+SUPPORT, TRANSFER = "support", "transfer"
 
 
 class CLMController:
@@ -259,7 +264,19 @@ class CLMController:
         self.h_est = 0.0
         self.last_case = FLAT
         self.started = False
-        self.events: list[tuple[float, str]] = []
+        self.queue_reason: dict[str, str] = {}
+        self.events: list[Transition] = []
+
+    def info(self) -> dict:
+        return events_info(self.events)
+
+    def _goto(self, t: float, dst: int, reason: str) -> None:
+        """Change the controller state, recording the transition."""
+        self.events.append(Transition(t, MODE_NAMES[self.state], MODE_NAMES[dst], reason))
+        self.state = dst
+
+    def _arm_event(self, t: float, k: str, src: str, dst: str, reason: str) -> None:
+        self.events.append(Transition(t, f"{k}.{src}", f"{k}.{dst}", reason))
 
     def _target(self, k: str) -> np.ndarray:
         front, rear = self.cfg.targets
@@ -294,6 +311,7 @@ class CLMController:
                 return -1
             self.phase[k] = 1
             self.contact[ARM_INDEX[k]] = False
+            self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, "gait turn"))
             moving = [k]
         k = moving[0]
         i = ARM_INDEX[k]
@@ -316,7 +334,7 @@ class CLMController:
                 self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
         self.cmd.arm[i] = c
         if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
-            self.events.append((obs.t, f"{k}: no ground within reach (pit)"))
+            self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")
             self.phase[k] = 0
             self.pause_until = obs.t + cfg.gait_pause
         else:
@@ -334,7 +352,7 @@ class CLMController:
         self.tau_ref[i] = obs.tau_elbow[i]
         p = ak.fk(obs.q_arm[i], self.robot, k)
         case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)
-        self.events.append((obs.t, f"{k} landed: {case}"))
+        self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
         self.pause_until = obs.t + cfg.gait_pause
 
     # ---------------------------------------------------------------- climbing
@@ -375,8 +393,7 @@ class CLMController:
                     continue  # the tip is still below the edge: it stays raised against the riser
                 c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
             if self.s > cfg.climb_distance and h > self.h_est:
-                self.state = RELEASE
-                self.events.append((obs.t, f"released: H = {h:.3f} m, S = {self.s:.3f} m"))
+                self._goto(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {cfg.climb_distance} m")
         else:  # RELEASE (eqs. 28-29 second cases)
             for i in range(4):
                 if c.arm[i, 1] > cfg.release_boom:
@@ -386,11 +403,10 @@ class CLMController:
                     c.flip[f] = min(c.flip[f] + cfg.d_f, 0.0)
             if all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
                 # back to walking on the top: arms re-placed, front flippers to their cruise angle
-                self.state = WALK
+                self._goto(obs.t, WALK, "booms and flippers released")
                 self.queue = list(GAIT_ORDER)
                 c.flip[:2] = cfg.flipper_start
                 self.contact[:] = False
-                self.events.append((obs.t, "climb done, walking"))
 
     # ---------------------------------------------------------------- main
     def __call__(self, obs) -> Command:
@@ -403,7 +419,7 @@ class CLMController:
             c.track[:] = 0.0
             i = self._transfer(obs)
             if i < 0 and not self.queue and not any(self.phase.values()):
-                self.state = WALK
+                self._goto(obs.t, WALK, "four arms placed")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c
@@ -416,16 +432,17 @@ class CLMController:
                 if (self.phase[k] == 0 and self.contact[i] and k not in self.queue
                         and contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.hit_torque)):
                     self.queue.insert(0, k)
-                    self.events.append((obs.t, f"{k}: collision (elbow torque)"))
+                    self.queue_reason[k] = (f"collision: elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
+                                            f" > {cfg.hit_torque:g}")
             i = self._transfer(obs)
             all_down = self.contact.all() and not any(self.phase.values())
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
             at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
             if all_down and self.last_case == UP and at_limit:
                 self.h_est = step_height(z)
-                self.state, self.s = CLIMB, 0.0
+                self.s = 0.0
                 self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
-                self.events.append((obs.t, f"step detected: H_EST = {self.h_est:.3f} m; climbing"))
+                self._goto(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, front flippers at the limit")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c

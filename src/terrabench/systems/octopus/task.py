@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from terrabench.sim.episode import Timing
+from terrabench.sim.stall import StallWatch
 from terrabench.systems.base import TaskBase
 from terrabench.systems.octopus.clm import Command
 from terrabench.systems.octopus.config import OctopusConfig
@@ -134,7 +135,7 @@ class OctopusTask(TaskBase):
         self.robot_geom = ~self.ground
         self.obs = Observation(model, data)
         pr = self.cfg.protocol
-        self._best, self._best_t = -1e9, 0.0
+        self._stall = StallWatch(pr.stuck_time, pr.stuck_progress)
         self._hold = 0.0
         self._hold_n = int(round(pr.success_hold / pr.control_period))
         self._on_top_n = 0
@@ -167,12 +168,10 @@ class OctopusTask(TaskBase):
         roll, pitch = roll_pitch(self.data.xquat[self.chassis])
         if abs(roll) > pr.turn_over or abs(pitch) > pr.turn_over:
             return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {pr.turn_over} rad"
-        s, _ = self.progress()
-        t = self.data.time
-        if s > self._best + pr.stuck_progress:
-            self._best, self._best_t = s, t
-        elif t - self._best_t > pr.stuck_time:
-            return "stuck", f"no {pr.stuck_progress} m of progress for {pr.stuck_time} s (at s = {s:.2f} m)"
+        s, lat = self.progress()
+        goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
+        if slow and self._stall.update(self.data.time, s, lat, abs(goal - s)):
+            return "stuck", f"{self._stall.reason()} (at s = {s:.2f} m)"
         z = float(self.data.xpos[self.chassis, 2])
         stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
         if lay.kind == "block":

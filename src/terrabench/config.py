@@ -1,8 +1,20 @@
-"""Frozen-dataclass config helpers: to/from plain dicts and dotted (YAML-valued) overrides.
+"""Frozen-dataclass config helpers: declared ranges, to/from plain dicts, dotted overrides.
 
 Configs are nested frozen dataclasses; a run stores ``to_dict(cfg)`` with every trial, and
 ``from_dict`` rebuilds the identical object in a worker. ``override(cfg, {"physics.timestep":
 0.0025})`` returns a new config (``dataclasses.replace`` all the way down), never mutating.
+
+Every field declares what it may hold where it is declared, with :func:`param`::
+
+    @dataclass(frozen=True)
+    class ChainConfig:
+        n_units: int = param(5, ge=2, doc="number of wheeled units")
+        body_mass: float = param(0.8, gt=0, unit="kg", doc="mass of one unit's body")
+
+The range and the one-line meaning live in the field's metadata (:func:`spec_of`), so
+:func:`validate` (run by :func:`override` and :func:`from_dict`), ``terrabench config SYSTEM``
+and the generic tests all read the same declaration. Every error is one line naming the dotted
+key, the bad value and what is valid (:class:`ConfigError`, a ``ValueError``).
 """
 
 from __future__ import annotations
@@ -10,11 +22,231 @@ from __future__ import annotations
 import dataclasses
 import math
 import typing
-from typing import Any, Mapping, TypeVar
+from collections.abc import Iterator, Mapping
+from typing import Any, TypeVar
 
 import yaml
 
 T = TypeVar("T")
+
+_META = "terrabench.param"
+
+
+@dataclasses.dataclass(frozen=True)
+class Param:
+    """What one config field may hold (stored in the dataclass field's metadata).
+
+    Attributes:
+        ge, gt, le, lt: bounds on a number (or on every number of a list field); None = open.
+        unit: the unit shown beside the range (``"m"``, ``"s"``, ``"kg"``...).
+        doc: one line saying what the field means.
+        choices: the only values allowed (strings or numbers), None = any.
+        length: exact number of entries of a list field, None = any.
+    """
+
+    ge: float | None = None
+    gt: float | None = None
+    le: float | None = None
+    lt: float | None = None
+    unit: str = ""
+    doc: str = ""
+    choices: tuple[Any, ...] | None = None
+    length: int | None = None
+
+    def bounds_text(self) -> str:
+        """The numeric range alone, e.g. ``> 0``, ``in [0, 1]``, ``>= 1``; '' if unbounded."""
+        lo = (f"[{_num(self.ge)}", self.ge) if self.ge is not None else (f"({_num(self.gt)}", self.gt) if self.gt is not None else None
+        hi = (f"{_num(self.le)}]", self.le) if self.le is not None else (f"{_num(self.lt)})", self.lt) if self.lt is not None else None
+        if lo and hi:
+            return f"in {lo[0]}, {hi[0]}"
+        if lo:
+            return (">= " if self.ge is not None else "> ") + _num(lo[1])
+        if hi:
+            return ("<= " if self.le is not None else "< ") + _num(hi[1])
+        return ""
+
+    @property
+    def has_range(self) -> bool:
+        return self.choices is not None or any(b is not None for b in (self.ge, self.gt, self.le, self.lt))
+
+    def describe(self, default: Any = None) -> str:
+        """What is valid, in words: ``an integer >= 2``, ``one of euler, rk4``, ``3 numbers in [0, 1]``."""
+        if self.choices is not None:
+            return "one of " + ", ".join(str(c) for c in self.choices)
+        rng = self.bounds_text()
+        unit = f" ({self.unit})" if self.unit else ""
+        if isinstance(default, tuple):
+            count = f"{self.length} " if self.length is not None else "a list of "
+            kind = "integers" if default and all(_is_int(v) for v in default) else "numbers"
+            if not default or all(_is_number(v) for v in default):
+                return f"{count}{kind}" + (f" each {rng}" if rng else "") + unit
+            return f"{count}entries" + unit
+        if isinstance(default, bool):
+            return "true or false"
+        kind = "an integer" if _is_int(default) else "a number" if _is_number(default) else "a value"
+        return kind + (f" {rng}" if rng else "") + unit
+
+
+def _num(x: float) -> str:
+    return repr(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _is_int(v: Any) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
+class ConfigError(ValueError):
+    """A bad config value: one line naming the dotted key, the value and what is valid."""
+
+    def __init__(self, key: str, value: Any, valid: str, *, problem: str = "is invalid") -> None:
+        self.key, self.value, self.valid, self.problem = key, value, valid, problem
+        super().__init__(f"config key {key!r} = {_show(value)} {problem}; valid: {valid}")
+
+    def under(self, prefix: str) -> ConfigError:
+        """The same error with ``prefix.`` in front of its key (a nested section's check)."""
+        return ConfigError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.valid, problem=self.problem)
+
+
+def _show(value: Any) -> str:
+    return repr(list(value)) if isinstance(value, tuple) else repr(value)
+
+
+def param(default: Any = dataclasses.MISSING, *, ge: float | None = None, gt: float | None = None,
+          le: float | None = None, lt: float | None = None, unit: str = "", doc: str = "",
+          choices: typing.Iterable[Any] | None = None, length: int | None = None,
+          default_factory: Any = dataclasses.MISSING) -> Any:
+    """A dataclass ``field()`` that declares its valid range and one-line meaning.
+
+    Numbers must be finite and inside the bounds (``ge``/``gt``/``le``/``lt``); a list field's
+    bounds hold for every entry and ``length`` fixes its number of entries; ``choices`` lists the
+    only values allowed. Checked by :func:`validate`; read back with :func:`spec_of`.
+    """
+    if ge is not None and gt is not None or le is not None and lt is not None:
+        raise TypeError("param: give at most one lower bound (ge or gt) and one upper bound (le or lt)")
+    meta = {_META: Param(ge, gt, le, lt, unit, doc, tuple(choices) if choices is not None else None, length)}
+    return dataclasses.field(default=default, default_factory=default_factory, metadata=meta)
+
+
+def spec_of(f: dataclasses.Field) -> Param | None:
+    """The :class:`Param` a field was declared with, or None for a plain field."""
+    return f.metadata.get(_META)
+
+
+def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
+    """ConfigError naming ``key`` unless ``value`` satisfies ``spec`` (``default`` gives the kind)."""
+    valid = spec.describe(default if default is not None else value)
+    if spec.choices is not None:
+        if not any(value == c and isinstance(value, bool) == isinstance(c, bool) for c in spec.choices):
+            raise ConfigError(key, value, valid)
+        return
+    if isinstance(value, (tuple, list)):
+        if spec.length is not None and len(value) != spec.length:
+            raise ConfigError(key, value, valid, problem=f"has {len(value)} entries")
+        items = list(_flatten(value))
+    else:
+        if spec.length is not None:
+            raise ConfigError(key, value, valid, problem="is not a list")
+        items = [value]
+    for v in items:
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            if spec.has_range:
+                raise ConfigError(key, value, valid, problem="is not a number")
+            continue
+        if not math.isfinite(v):
+            raise ConfigError(key, value, valid, problem="is not finite")
+        if (spec.ge is not None and not v >= spec.ge) or (spec.gt is not None and not v > spec.gt) or \
+                (spec.le is not None and not v <= spec.le) or (spec.lt is not None and not v < spec.lt):
+            raise ConfigError(key, value, valid, problem="is out of range")
+
+
+def _flatten(v: Any) -> Iterator[Any]:
+    for x in v:
+        if isinstance(x, (tuple, list)):
+            yield from _flatten(x)
+        else:
+            yield x
+
+
+def check_fields(obj: Any) -> None:
+    """Check ``obj``'s own declared fields (not nested sections): for a ``__post_init__``.
+
+    The error names the field; :func:`override` / :func:`from_dict` put the section path in front.
+    """
+    for f in dataclasses.fields(obj):
+        spec = spec_of(f)
+        if spec is not None:
+            check_value(f.name, getattr(obj, f.name), spec, _default(f))
+
+
+def validate(cfg: Any, prefix: str = "") -> Any:
+    """Check every declared field of ``cfg`` and its nested sections; returns ``cfg``.
+
+    Raises :class:`ConfigError` (a ValueError) naming the dotted key, the value and what is valid.
+    """
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        key = f"{prefix}{f.name}"
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            validate(v, key + ".")
+            continue
+        spec = spec_of(f)
+        if spec is not None:
+            check_value(key, v, spec, _default(f))
+    return cfg
+
+
+def _default(f: dataclasses.Field) -> Any:
+    if f.default is not dataclasses.MISSING:
+        return f.default
+    if f.default_factory is not dataclasses.MISSING:  # type: ignore[misc]
+        return f.default_factory()  # type: ignore[misc]
+    return None
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldInfo:
+    """One settable key of a config (``terrabench config SYSTEM``)."""
+
+    key: str
+    default: Any
+    type: str
+    spec: Param | None
+
+    @property
+    def valid(self) -> str:
+        return self.spec.describe(self.default) if self.spec is not None else ""
+
+    @property
+    def doc(self) -> str:
+        return self.spec.doc if self.spec is not None else ""
+
+    @property
+    def unit(self) -> str:
+        return self.spec.unit if self.spec is not None else ""
+
+
+def fields_info(cfg: Any, prefix: str = "") -> list[FieldInfo]:
+    """Every leaf key of the config instance ``cfg`` (dotted), its current value, type and spec."""
+    out: list[FieldInfo] = []
+    try:
+        hints = typing.get_type_hints(type(cfg))
+    except NameError:  # a class defined inside a function: fall back to the annotation text
+        hints = {}
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            out.extend(fields_info(v, f"{prefix}{f.name}."))
+            continue
+        hint = hints.get(f.name, f.type if isinstance(f.type, str) else type(v))
+        tname = hint if isinstance(hint, str) else getattr(hint, "__name__", None) or str(hint)
+        if typing.get_origin(hint) is not None:
+            tname = str(hint).replace("typing.", "")
+        out.append(FieldInfo(prefix + f.name, v, tname, spec_of(f)))
+    return out
 
 
 def to_dict(cfg: Any) -> dict[str, Any]:
@@ -35,48 +267,79 @@ def _listify(v: Any) -> Any:
 
 
 def from_dict(cls: type[T], data: Mapping[str, Any]) -> T:
-    """Rebuild ``cls`` from :func:`to_dict` output; unknown keys raise ValueError."""
+    """Rebuild ``cls`` from :func:`to_dict` output and :func:`validate` it.
+
+    Unknown keys raise ValueError naming the valid ones; missing keys take their defaults.
+    """
+    return validate(_build(cls, data, ""))
+
+
+def _build(cls: type[T], data: Mapping[str, Any], prefix: str) -> T:
     hints = typing.get_type_hints(cls)
     names = {f.name for f in dataclasses.fields(cls)}
     unknown = set(data) - names
     if unknown:
-        raise ValueError(f"unknown {cls.__name__} field(s) {sorted(unknown)}; valid: {sorted(names)}")
+        where = f" in section {prefix[:-1]!r}" if prefix else ""
+        raise ValueError(f"unknown {cls.__name__} field(s) {sorted(unknown)}{where}; valid: {sorted(names)}")
     kwargs = {}
     for name, value in data.items():
         hint = hints[name]
         if dataclasses.is_dataclass(hint) and isinstance(value, Mapping):
-            value = from_dict(hint, value)
+            value = _build(hint, value, f"{prefix}{name}.")
         elif isinstance(value, list):
             value = tuple(tuple(v) if isinstance(v, list) else v for v in value)
         kwargs[name] = value
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except ConfigError as exc:  # a __post_init__ check_fields(): put the section path in front
+        raise exc.under(prefix[:-1]) from None
+    except (TypeError, ArithmeticError) as exc:
+        where = f"config section {prefix[:-1]!r}" if prefix else f"config {cls.__name__}"
+        raise ValueError(f"{where} is invalid: {exc}") from None
 
 
 def override(cfg: T, changes: Mapping[str, Any]) -> T:
-    """Apply ``{"a.b.c": value}`` changes; an unknown path raises ValueError naming valid keys."""
+    """Apply ``{"a.b.c": value}`` changes and :func:`validate` the result.
+
+    An unknown path raises ValueError naming the valid keys; a value outside its declared range
+    raises :class:`ConfigError` naming the dotted key, the value and what is valid.
+    """
     for path, value in changes.items():
         cfg = _set(cfg, path.split("."), value, path)
-    return cfg
+    return validate(cfg)
 
 
 def _set(obj: Any, parts: list[str], value: Any, full: str) -> Any:
-    names = [f.name for f in dataclasses.fields(obj)]
+    fields = {f.name: f for f in dataclasses.fields(obj)}
     head = parts[0]
-    if head not in names:
-        raise ValueError(f"unknown config key {full!r} (at {head!r}); valid here: {', '.join(names)}")
+    if head not in fields:
+        raise ValueError(f"unknown config key {full!r} (at {head!r}); valid here: {', '.join(fields)}")
     current = getattr(obj, head)
     if len(parts) == 1:
         if dataclasses.is_dataclass(current):
             sub = ", ".join(f"{full}.{f.name}" for f in dataclasses.fields(current))
             raise ValueError(f"config key {full!r} is a section; set one of its fields: {sub}")
         value = _coerce(current, value, full)
+        spec = spec_of(fields[head])
+        if spec is not None:
+            check_value(full, value, spec, _default(fields[head]))
         try:
             return dataclasses.replace(obj, **{head: value})
-        except (TypeError, ArithmeticError) as exc:
-            raise ValueError(f"config key {full!r} = {value!r} is invalid: {exc}") from None
+        except ConfigError as exc:  # another field of this section, checked in __post_init__
+            raise ConfigError(full.rsplit(".", 1)[0] + "." + exc.key if "." in full else exc.key,
+                              exc.value, exc.valid, problem=exc.problem) from None
+        except (TypeError, ArithmeticError, ValueError) as exc:
+            raise ValueError(f"config key {full!r} = {_show(value)} is invalid: {exc}") from None
     if not dataclasses.is_dataclass(current):
         raise ValueError(f"config key {full!r}: {head!r} is a value, not a section")
-    return dataclasses.replace(obj, **{head: _set(current, parts[1:], value, full)})
+    try:
+        return dataclasses.replace(obj, **{head: _set(current, parts[1:], value, full)})
+    except ConfigError:
+        raise
+    except (TypeError, ArithmeticError, ValueError) as exc:  # a cross-section check of obj
+        if str(exc).startswith(("config key", "unknown config key")):
+            raise
+        raise ValueError(f"config key {full!r} = {_show(value)} is invalid: {exc}") from None
 
 
 def _coerce(current: Any, value: Any, full: str) -> Any:

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from terrabench.config import check_fields, param
+
 INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
@@ -32,21 +34,16 @@ class PhysicsConfig:
         max_speed: any generalised speed above this counts as divergence (m/s or rad/s).
     """
 
-    timestep: float = 0.005
-    integrator: str = "implicitfast"
-    solver: str = "newton"
-    iterations: int = 50
-    ccd_tolerance: float = 1e-4
-    gravity: float = -9.81
-    max_speed: float = 1000.0
+    timestep: float = param(0.005, gt=0, unit="s", doc="physics step")
+    integrator: str = param("implicitfast", choices=INTEGRATORS, doc="MuJoCo integrator")
+    solver: str = param("newton", choices=SOLVERS, doc="MuJoCo constraint solver")
+    iterations: int = param(50, ge=1, doc="constraint solver iterations")
+    ccd_tolerance: float = param(1e-4, gt=0, unit="m", doc="convex collision detection tolerance")
+    gravity: float = param(-9.81, le=0, unit="m/s^2", doc="z component of gravity (down is negative)")
+    max_speed: float = param(1000.0, gt=0, unit="m/s or rad/s", doc="any generalised speed above this is divergence")
 
     def __post_init__(self) -> None:
-        if not self.timestep > 0:
-            raise ValueError(f"physics timestep must be positive, got {self.timestep!r}")
-        if self.integrator not in INTEGRATORS:
-            raise ValueError(f"unknown integrator {self.integrator!r}; valid: {', '.join(INTEGRATORS)}")
-        if self.solver not in SOLVERS:
-            raise ValueError(f"unknown solver {self.solver!r}; valid: {', '.join(SOLVERS)}")
+        check_fields(self)
 
     def apply(self, spec: mujoco.MjSpec) -> None:
         spec.option.timestep = self.timestep

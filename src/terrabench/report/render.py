@@ -37,6 +37,10 @@ Overlay = Callable[[Any, Any], str]
 VIDEO_SUFFIXES = (".mp4", ".gif", ".png")
 
 
+class GLUnavailable(RuntimeError):
+    """No headless OpenGL context could be made (reports fall back to a note, the CLI to one line)."""
+
+
 def _gl_context(width: int, height: int):
     """A current offscreen GL context: EGL, then OSMesa (or the reverse if MUJOCO_GL=osmesa)."""
     first = os.environ.get("MUJOCO_GL", "egl").lower()
@@ -53,7 +57,7 @@ def _gl_context(width: int, height: int):
             return ctx
         except Exception as exc:  # noqa: BLE001 - try the next backend, report all at the end
             errors.append(f"{backend}: {type(exc).__name__}: {exc}")
-    raise RuntimeError("no headless OpenGL context could be created (" + "; ".join(errors) + ")")
+    raise GLUnavailable("no headless OpenGL context could be created (" + "; ".join(errors) + ")")
 
 
 class SceneRenderer:
@@ -352,3 +356,15 @@ def frame_strip(frames: Sequence[np.ndarray], path: str | Path, gap: int = 4) ->
     path.parent.mkdir(parents=True, exist_ok=True)
     Image.fromarray(strip).save(path)
     return path
+
+
+def snapshot_strip(system: Any, spec: Any, times: Sequence[float], path: str | Path, *, width: int = 320,
+                   height: int = 240, overlay: Overlay | None = None, track: str | None = None) -> Path:
+    """Frames of ``spec``'s benchmark episode at ``times`` (:func:`snapshots`) side by side in one
+    PNG at ``path`` (:func:`frame_strip`); returns the path.
+
+    Raises:
+        GLUnavailable: no headless GL on this machine (:meth:`terrabench.report.page.Page.snapshots`
+            turns it into a note on the page).
+    """
+    return frame_strip(snapshots(system, spec, times, width=width, height=height, overlay=overlay, track=track), path)

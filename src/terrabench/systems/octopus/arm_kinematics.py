@@ -14,6 +14,22 @@ def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     return arm_tip_local(np.asarray(q, float), cfg, k)
 
 
+_SX = np.array([CORNER[k][0] for k in ARMS], float)
+_SY = np.array([CORNER[k][1] for k in ARMS], float)
+
+
+def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
+    """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` in one numpy pass."""
+    sw, bm, el = q_arm[:, 0], q_arm[:, 1], q_arm[:, 2]
+    mx, my, mz = cfg.arm_mount
+    reach = cfg.l1 * np.cos(bm) + cfg.l2 * np.cos(bm + el)
+    out = np.empty((4, 3))
+    out[:, 0] = _SX * mx + reach * np.sin(sw)
+    out[:, 1] = _SY * (my + reach * np.cos(sw))
+    out[:, 2] = mz + 0.04 - cfg.l1 * np.sin(bm) - cfg.l2 * np.sin(bm + el)
+    return out
+
+
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Joints (swing, boom, elbow) (rad) putting arm ``k``'s tip at ``p`` in {R}; knee up.
 
@@ -48,5 +64,4 @@ def rotation_rc(roll: float, pitch: float) -> np.ndarray:
 
 def tips_level(q_arm: np.ndarray, roll: float, pitch: float, cfg: RobotConfig) -> np.ndarray:
     """(4, 3) tip positions in {C} (origin of {R}, axes level) (m), arms LF, RF, LR, RR."""
-    R = rotation_rc(roll, pitch)
-    return np.array([R @ fk(q_arm[i], cfg, k) for i, k in enumerate(ARMS)])
+    return fk_all(q_arm, cfg) @ rotation_rc(roll, pitch).T

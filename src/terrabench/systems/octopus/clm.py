@@ -15,7 +15,7 @@ import numpy as np
 
 from terrabench.systems.base import Transition, events_info
 from terrabench.systems.octopus import arm_kinematics as ak
-from terrabench.systems.octopus.robot import ARMS, RobotConfig
+from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
 
 FLAT, UP, DOWN, UNDETECTABLE = "flat", "up-step", "down-step", "undetectable"
 GAIT_ORDER = ("RR", "RF", "LR", "LF")  # inferred from the paper's Fig. 14 description
@@ -42,7 +42,16 @@ class CLMConfig:
         k_boom: boom gain K of eqs. 19-21 (per tick).
         contact_torque: elbow-torque change that signals a tip contact (N m).
         hit_torque: elbow-torque change of a supporting arm that signals a collision (N m).
-        press: the tip target is set this far below the landed tip so the tip carries load (m).
+        press: a supporting tip's target sits this far below its measured height (m): a press of
+            bounded force, so the crawlers carry most of the load (eqs. 22-27, :meth:`_support`).
+        reach_min: (front, rear) arms: a foothold behind this x in {R} is out of range (m); the
+            crawlers wait for its transfer.
+        lower_dz: a lowering tip's target descends this much a tick (m) (0.5 m/s), three times
+            that while more than 0.15 m above the target height.
+        stall_dz: a lowering tip this far above its target has landed (stopped following) (m).
+        pit_depth: no ground this far below the transfer target: a pit (arm stop case 3) (m).
+        reach_max: a foothold farther than this from its arm's mount, horizontally, is out of
+            range too (m) (l1 + l2 = 0.9 m reaches 0.87 m at the ground's depth).
         targets: transfer target tips in {R} (x, |y|, z) for (front, rear) arms (m), Table 2's analogue.
         d_c, d_d: arm stop thresholds dC (x) and dD (z) (m).
         gait_pause: support time between two transfers (s).
@@ -73,7 +82,12 @@ class CLMConfig:
     k_boom: float = 0.15
     contact_torque: float = 20.0
     hit_torque: float = 45.0
-    press: float = 0.03
+    press: float = 0.005
+    reach_min: tuple[float, float] = (0.2, -0.9)
+    reach_max: float = 0.8
+    lower_dz: float = 0.01
+    stall_dz: float = 0.04
+    pit_depth: float = 0.45
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
     d_c: float = 0.1
     d_d: float = 0.08
@@ -256,6 +270,11 @@ class CLMController:
         self.h = 0.0
         self.contact = np.zeros(4, bool)
         self.tip_c = np.zeros((4, 3))
+        self.tip_r = np.zeros((4, 3))
+        self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
+        self.low_z = np.zeros(4)  # tip height target of a lowering arm in {R} (m)
+        self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
+        self.out_of_reach = False
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
         self.next_gait = 0
         self.pause_until = 0.0
@@ -319,19 +338,28 @@ class CLMController:
         tgt = ak.ik(self.targets[k], self.robot, k)
         ph = self.phase[k]
         if ph == 3:
+            # lower: the tip target descends straight down over the transfer target (IK), so the
+            # tip lands where it was sent; contact = the elbow torque signal, or the tip stops
+            # following its descent (encoders)
             self.t3[i] += self.dt
-            stalled = self.cmd.arm[i, 1] - q[1] > cfg.stall_lag  # encoder: the boom stopped following
-            if self.t3[i] > 0.2 and (contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque) or stalled):
+            tx, ty, tz = self.targets[k]
+            # fast while high above the expected ground, then slow for a soft touch
+            self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
+            touched = contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque)
+            blocked = self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz
+            if self.t3[i] > 0.2 and (touched or blocked):
                 self._land(obs, k, i)
                 return i
-        new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
+            if self.t3[i] <= 0.2:
+                # the free-motion reference follows the slow changes (gravity, servo lag)
+                self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
+            new_ph, c = (4 if self.low_z[i] < tz - cfg.pit_depth else 3), ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
+        else:
+            new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
         if ph == 2 and new_ph == 3:
             self.tau_ref[i] = obs.tau_elbow[i]
             self.t3[i] = 0.0
-        if ph == 3:
-            # the free-motion reference follows the slow changes (gravity, servo lag) while lowering
-            if self.t3[i] <= 0.2:
-                self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
+            self.low_z[i] = self.tip_r[i, 2]
         self.cmd.arm[i] = c
         if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
             self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")
@@ -347,13 +375,42 @@ class CLMController:
         self.contact[i] = True
         # press: the tip target goes straight down by ``press`` in {R} (IK), so the arm takes load
         # without pushing the chassis sideways on its rolling tips (a boom-only press would)
-        p_tip = ak.fk(obs.q_arm[i], self.robot, k)
-        self.cmd.arm[i] = ak.ik(p_tip - np.array([0.0, 0.0, cfg.press]), self.robot, k)
+        p = self.tip_r[i].copy()
+        self.foot[i] = p
+        self.cmd.arm[i] = ak.ik(p - np.array([0.0, 0.0, cfg.press]), self.robot, k)
         self.tau_ref[i] = obs.tau_elbow[i]
-        p = ak.fk(obs.q_arm[i], self.robot, k)
         case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)
         self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
         self.pause_until = obs.t + cfg.gait_pause
+
+    def _support(self, obs, v: float) -> bool:
+        """Arm moving (eqs. 22-27): each supporting arm's joints follow the body so its tip holds
+        its foothold; returns True when a foothold has left its arm's working range.
+
+        The body moves L = v dt a tick along the terrain, at T_P - R_P to its own x axis (T_P the
+        terrain pitch from the last four-tip exploration, R_P the IMU pitch), so a foothold moves
+        by -L (cos, 0, sin)(T_P - R_P) in {R}. Its height is not predicted but sensed: the target
+        sits ``press`` below the tip's measured height (encoders), a press of a bounded force
+        (the servo stiffness times ``press``) whatever the body does, so the crawlers carry the
+        rest of the load.
+        """
+        cfg = self.cfg
+        mx, my, _ = self.robot.arm_mount
+        a = self.tp - obs.pitch
+        dx = v * self.dt * math.cos(a)
+        out = False
+        for i, k in enumerate(ARMS):
+            if self.phase[k] or not self.contact[i]:
+                continue
+            f = self.foot[i]
+            f[0] -= dx
+            f[2] = self.tip_r[i, 2] - cfg.press
+            self.cmd.arm[i] = ak.ik(f, self.robot, k)
+            sx, sy = CORNER[k]
+            if (f[0] < cfg.reach_min[0 if sx > 0 else 1]
+                    or math.hypot(f[0] - sx * mx, f[1] - sy * my) > cfg.reach_max):
+                out = True
+        return out
 
     # ---------------------------------------------------------------- climbing
     def _climb(self, obs) -> None:
@@ -413,7 +470,9 @@ class CLMController:
         cfg, c = self.cfg, self.cmd
         if not self.started:
             self._start(obs)
-        self.tip_c = ak.tips_level(obs.q_arm, obs.roll, obs.pitch, self.robot)
+        # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
+        self.tip_r = ak.fk_all(obs.q_arm, self.robot)
+        self.tip_c = self.tip_r @ ak.rotation_rc(obs.roll, obs.pitch).T
         z = self.tip_c[:, 2]
         if self.state == INIT:
             c.track[:] = 0.0
@@ -424,7 +483,10 @@ class CLMController:
             self._lead(obs)
             return c
         if self.state == WALK:
-            c.track[:] = cfg.track_speed
+            # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
+            v = 0.0 if self.out_of_reach else cfg.track_speed
+            c.track[:] = v
+            self.out_of_reach = self._support(obs, v)
             for f in (0, 1):
                 c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)
             # a supporting arm pushed hard (collision): it is transferred next
@@ -436,6 +498,8 @@ class CLMController:
                                             f" > {cfg.hit_torque:g}")
             i = self._transfer(obs)
             all_down = self.contact.all() and not any(self.phase.values())
+            if all_down:
+                self.tp = terrain_angles(self.tip_c)[0]
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
             at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
             if all_down and self.last_case == UP and at_limit:

@@ -81,10 +81,27 @@ def test_frame_times():
 
 
 def test_report_strip(tmp_path):
-    from terrabench.systems.mrs_cwc.report import strip_html
+    from terrabench.report.page import Page
+    from terrabench.systems.mrs_cwc.report import _strip
 
-    html = strip_html(tmp_path, [], seconds=0.5)
-    assert "trial_strip.png" in html and (tmp_path / "trial_strip.png").exists()
+    page = Page(tmp_path, "strip")
+    _strip(page, [], seconds=0.5)
+    assert "src='trial_strip.png'" in page.finish().read_text() and (tmp_path / "trial_strip.png").exists()
+
+
+def test_report_strip_without_gl_is_a_note(tmp_path, monkeypatch):
+    from terrabench.report import render as render_mod
+    from terrabench.report.page import Page
+    from terrabench.systems.mrs_cwc.report import _strip
+
+    def no_gl(width, height):
+        raise render_mod.GLUnavailable("no headless OpenGL context could be created (egl: test)")
+
+    monkeypatch.setattr(render_mod, "_gl_context", no_gl)
+    page = Page(tmp_path, "strip")
+    _strip(page, [], seconds=0.5)
+    text = page.finish().read_text()
+    assert "Snapshots skipped: no headless OpenGL" in text and not (tmp_path / "trial_strip.png").exists()
 
 
 def test_cli_render(tmp_path):

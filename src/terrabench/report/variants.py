@@ -113,7 +113,8 @@ def find_variants(rows: Sequence[dict[str, Any]], *,
         most: at most this many settings in a label, then ``+N more``.
 
     Returns:
-        Methods in ``order``; within a method the default variant first, then by trial count.
+        Methods in ``order``; within a method the default variant first, then by trial count, then
+        by config hash.
     """
     label = label or (lambda m: m)
     describe = describe or (lambda k, v: f"{k}={v}")
@@ -133,7 +134,7 @@ def find_variants(rows: Sequence[dict[str, Any]], *,
     rank = {m: i for i, m in enumerate(order)}
     out: list[Variant] = []
     for m in sorted(groups, key=lambda m: (rank.get(m, len(rank)), m)):
-        vs = sorted(groups[m].items(), key=lambda kv: (bool(kv[1]["diff"]), -kv[1]["n"], kv[0]))
+        vs = sorted(groups[m].items(), key=lambda kv: (bool(kv[1]["diff"]), -kv[1]["n"], min(kv[1]["hashes"])))
         base = label(m)
         if len(vs) == 1:
             labels = [base]

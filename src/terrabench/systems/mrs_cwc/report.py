@@ -22,14 +22,11 @@ method whose seed-0 rows were run under more than one config appears once per co
 
 from __future__ import annotations
 
-import csv
-import datetime as _dt
 import html
 import json
 import math
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any
 
 import matplotlib
 
@@ -42,7 +39,10 @@ from matplotlib.patches import Patch  # noqa: E402
 from terrabench.benchmark.trial import STATUSES, canonical_json  # noqa: E402
 from terrabench.config import to_dict  # noqa: E402
 from terrabench.planning.astar import polyline_deviation  # noqa: E402
+from terrabench.report.page import Page, note, provenance_html, table_html  # noqa: E402
 from terrabench.report.terrain_plot import draw_terrain  # noqa: E402
+from terrabench.report.variants import Variant  # noqa: E402
+from terrabench.report.variants import find_variants as _find_variants  # noqa: E402
 from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
 from terrabench.systems.mrs_cwc.methods import METHODS, config_for  # noqa: E402
 from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
@@ -73,34 +73,13 @@ _MARKERS = {
 }
 
 
-@dataclass(frozen=True)
-class Variant:
-    """One table row: a method under one resolved config.
-
-    Attributes:
-        id: the method id when the method has one config in the store, else
-            ``"method@hash8"``.
-        method: method id, e.g. ``"cwc-astar"``.
-        config_hash: the trials' config hash (16 hex digits).
-        label: the paper's method name, plus the differing config values when the method has
-            several configs, e.g. ``"MRS-CWC + A* (our planner)"``.
-        config: the resolved config as stored (JSON dict).
-    """
-
-    id: str
-    method: str
-    config_hash: str
-    label: str
-    config: dict[str, Any]
-
-
 def write_report(store, out_dir: Path, render: bool = False) -> Path:
     """Write the MRS-CWC report from ``store``'s rows; returns the path of ``index.html``.
 
     Args:
         store: a :class:`~terrabench.benchmark.store.ResultsStore` (read only is enough).
         out_dir: folder for the HTML page, PNG figures and CSV tables (created if missing).
-        render: also render a frame strip of a short MRS-CWC + TDT trial (:func:`strip_html`;
+        render: also render a frame strip of a short MRS-CWC + TDT trial (:func:`_strip`;
             off by default: it costs a few seconds of simulation and GL rendering).
 
     Raises:
@@ -109,17 +88,16 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
     rows = store.rows(system="mrs-cwc")
     if not rows:
         raise ValueError(f"no mrs-cwc trials in {store.path}; run `terrabench run mrs-cwc` first")
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    page = Page(out_dir, "MRS-CWC rough-terrain navigation benchmark", outputs=OUTPUTS)
+    out_dir = page.out_dir
     rows0 = [r for r in rows if r["seed"] == 0]
     variants = find_variants(rows0)
-    vid = {(v.method, v.config_hash): v.id for v in variants}
+    vid = {(v.method, h): v.id for v in variants for h in v.hashes}
     # summaries() groups by (method, group): give each row its variant id as the method
     tagged = [{**r, "method": vid[(r["method"], r["config_hash"])]} for r in rows0]
     summ = summaries(tagged)
     cells = {(r["method"], r["instance"]): r for r in tagged}
     terrain_ids = list(dataset.benchmark_terrains())
-    page = Page(out_dir)
     page.p(f"{len(rows0)} seed-0 trials ({len(variants)} method/config variant(s)) from "
            f"<code>{html.escape(str(store.path))}</code>; every number and figure below is computed from "
            "these stored rows (the A* waypoint comparison from the shipped terrain data). Paper: Xiao et al., "
@@ -146,7 +124,7 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
         name = f"table_{group}.csv"
         page.csv(name, lines, TABLE_COLUMNS)
         page.h3(f"Group {group} ({PAPER_TABLE[group]} of the paper) <a href='{name}'>{name}</a>")
-        page.raw(_table_html(lines) if lines else _note(f"No stored seed-0 trials in group {group}."))
+        page.raw(_table_html(lines) if lines else note(f"No stored seed-0 trials in group {group}."))
 
     page.h2("Per-terrain outcomes")
     page.csv("outcomes.csv", outcome_lines(variants, cells, terrain_ids), OUTCOME_COLUMNS)
@@ -156,7 +134,7 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
                     "(no symbol: timeout; grey: not run or no NCR). <a href='outcomes.csv'>outcomes.csv</a> gives "
                     "the stored trial key of each cell.")
     else:
-        page.raw(_note("No stored seed-0 trials: no outcome matrix."))
+        page.raw(note("No stored seed-0 trials: no outcome matrix."))
 
     page.h2("Leader paths (analogues of the paper's Figs. 5 and 6)")
     for group in dataset.GROUPS:
@@ -164,7 +142,7 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
         gids = [t for t in terrain_ids if t[0] == group]
         tid = pick_terrain(variants, cells, gids)
         if tid is None:
-            page.raw(_note(f"No stored seed-0 trials in group {group}: no {paper_fig} analogue."))
+            page.raw(note(f"No stored seed-0 trials in group {group}: no {paper_fig} analogue."))
             continue
         fig = path_figure(store, variants, cells, dataset.get(tid))
         page.figure(fig, name, f"{paper_fig} analogue, group {group}: terrain {tid} (the group's terrain with the "
@@ -172,17 +150,19 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
                     "stiffness K and |tau_env| of the MRS-CWC + TDT run, as stored (every protocol.log_period).")
 
     if render:
-        page.raw(strip_html(out_dir, tagged))
+        _strip(page, tagged)
     page.h2("A* waypoints: our planner vs the released ones")
     _astar_section(page, tagged, variants)
 
     page.h2("How trials ended")
     lines = status_lines(variants, tagged)
     page.csv("statuses.csv", lines, STATUS_COLUMNS)
-    page.raw(_plain_table_html(lines, STATUS_COLUMNS) + " <a href='statuses.csv'>statuses.csv</a>")
+    page.raw(table_html(lines, STATUS_COLUMNS) + " <a href='statuses.csv'>statuses.csv</a>")
 
     page.h2("Provenance")
-    page.raw(_provenance_html(store, rows, rows0, variants))
+    page.raw(provenance_html(store, rows, system_id="mrs-cwc", default_config=_default_config, extra=[
+        f"seed 0 (in the tables and figures): {len(rows0)}; seeds &gt; 0 (only in the seeds section): "
+        f"{len(rows) - len(rows0)}", f"methods shown: {len(variants)} (method, config) variant(s)"]))
 
     return page.finish()
 
@@ -236,84 +216,44 @@ def _seeds_section(page: "Page", variants: list[Variant], seeded: list[dict[str,
     fig.tight_layout()
     page.figure(fig, "nsr_seeds.png", "NSR over seeds with 95 % CI (bars), the paper's NSR (ticks), and the share of "
                 "terrains whose outcome flips between seeds. <a href='nsr_seeds.csv'>nsr_seeds.csv</a>")
-    page.raw(_plain_table_html([{k: (f"{v:.1f}" if isinstance(v, float) else v) for k, v in ln.items()}
+    page.raw(table_html([{k: (f"{v:.1f}" if isinstance(v, float) else v) for k, v in ln.items()}
                                 for ln in lines], SEED_COLUMNS))
 
 
-def strip_html(out_dir: Path, rows: list[dict[str, Any]], seconds: float = 3.0, name: str = "trial_strip.png") -> str:
-    """Render four snapshots of a short MRS-CWC + TDT trial (the first stored cwc-tdt terrain,
-    else A-01; ``seconds`` simulated) into ``out_dir/name``; returns the HTML that shows it."""
-    from terrabench.report.render import frame_strip, snapshots
+def _strip(page: Page, rows: list[dict[str, Any]], seconds: float = 3.0, name: str = "trial_strip.png") -> None:
+    """Four snapshots of a short MRS-CWC + TDT trial (the first stored cwc-tdt terrain, else A-01;
+    ``seconds`` simulated), or a note when this machine has no headless GL."""
     from terrabench.systems.mrs_cwc.env import overlay
     from terrabench.systems.mrs_cwc.scenarios import SYSTEM
 
     tid = next((r["instance"] for r in rows if r["method"].startswith("cwc-tdt")), "A-01")
     spec = SYSTEM.plan(methods=["cwc-tdt"], instances=[tid], overrides={"protocol.timeout": seconds + 0.1})[0]
     times = [seconds * k / 3 for k in range(4)]
-    frame_strip(snapshots(SYSTEM, spec, times, width=320, height=240, overlay=overlay), Path(out_dir) / name)
-    return (f"<figure><img src='{name}' style='max-width:100%'><figcaption>MRS-CWC + TDT on {tid}, the first "
-            f"{seconds:g} simulated seconds (t = {', '.join(f'{t:g}' for t in times)} s), rendered from the "
-            "benchmark's own episode (<code>terrabench render</code> makes a clip).</figcaption></figure>")
+    page.snapshots(name, f"MRS-CWC + TDT on {tid}, the first {seconds:g} simulated seconds (t = "
+                   f"{', '.join(f'{t:g}' for t in times)} s), rendered from the benchmark's own episode "
+                   "(<code>terrabench render</code> makes a clip).", SYSTEM, spec, times, overlay=overlay)
 
 
 # ------------------------------------------------------------------ variants and tables
 def find_variants(rows: list[dict[str, Any]]) -> list[Variant]:
-    """The (method, config) variants of ``rows``: methods in :data:`METHODS` order (unknown
-    ones last), within a method the default config first, then the one with the most trials."""
-    by_method: dict[str, dict[str, dict[str, Any]]] = {}
-    counts: dict[tuple[str, str], int] = {}
-    for r in rows:
-        by_method.setdefault(r["method"], {}).setdefault(r["config_hash"], r["config"])
-        counts[(r["method"], r["config_hash"])] = counts.get((r["method"], r["config_hash"]), 0) + 1
-    order = {m: i for i, m in enumerate(METHODS)}
-    out = []
-    for mid in sorted(by_method, key=lambda m: (order.get(m, len(order)), m)):
-        configs = by_method[mid]
-        base = METHODS[mid].label if mid in METHODS else mid
-        default = _default_config(mid)
-        hashes = sorted(configs, key=lambda h: (configs[h] != default, -counts[(mid, h)], h))
-        if len(hashes) == 1:
-            out.append(Variant(mid, mid, hashes[0], base, configs[hashes[0]]))
-            continue
-        flat = {h: _flatten(configs[h]) for h in hashes}
-        keys = sorted({k for f in flat.values() for k in f}, key=lambda k: (k != "waypoint_source", k))
-        differing = [k for k in keys if len({canonical_json(flat[h].get(k)) for h in hashes}) > 1]
-        # a section only one variant reads (e.g. the planner's, with waypoint_source=planner)
-        # differs by absence; name the settings every variant has, when they tell them apart
-        shared = [k for k in differing if all(k in flat[h] for h in hashes)]
-        if shared and len({tuple(canonical_json(flat[h][k]) for k in shared) for h in hashes}) == len(hashes):
-            differing = shared
-        labels = {h: f"{base} ({_describe(flat[h], differing)})" for h in hashes}
-        if len(set(labels.values())) < len(labels):  # the shown keys did not tell them apart
-            labels = {h: f"{label} [{h[:8]}]" for h, label in labels.items()}
-        out += [Variant(f"{mid}@{h[:8]}", mid, h, labels[h], configs[h]) for h in hashes]
-    return out
+    """The (method, settings) variants of ``rows`` (:func:`terrabench.report.variants.find_variants`):
+    methods in :data:`METHODS` order (unknown ones last), within a method the default config first,
+    then the one with the most trials; labels name the waypoint source first."""
+    return _find_variants(rows, default_config=_default_config, order=list(METHODS),
+                          label=lambda m: METHODS[m].label if m in METHODS else m, describe=_describe_setting,
+                          key_order=lambda k: (k != "waypoint_source", k))
 
 
-def _default_config(mid: str) -> dict[str, Any] | None:
-    """The config this version plans for ``mid`` with no overrides (None for unknown methods)."""
+def _default_config(mid: str, instance: str = "") -> dict[str, Any] | None:
+    """The config this version plans for ``mid`` with no overrides (None for unknown methods);
+    the same on every terrain."""
     if mid not in METHODS:
         return None
     return json.loads(canonical_json(config_for(METHODS[mid], to_dict(MRSConfig()))))
 
 
-def _flatten(cfg: dict[str, Any], prefix: str = "") -> dict[str, Any]:
-    """Nested config dict -> ``{"protocol.timeout": 2.0, ...}``."""
-    out: dict[str, Any] = {}
-    for k, v in cfg.items():
-        if isinstance(v, dict):
-            out.update(_flatten(v, f"{prefix}{k}."))
-        else:
-            out[f"{prefix}{k}"] = v
-    return out
-
-
-def _describe(flat: dict[str, Any], keys: list[str], most: int = 3) -> str:
-    parts = [_SOURCE_NAMES.get(flat.get(k), str(flat.get(k))) if k == "waypoint_source" else f"{k}={flat.get(k)}"
-             for k in keys[:most]]
-    if len(keys) > most:
-        parts.append(f"+{len(keys) - most} more")
-    return ", ".join(parts)
+def _describe_setting(key: str, value: Any) -> str:
+    return _SOURCE_NAMES.get(value, str(value)) if key == "waypoint_source" else f"{key}={value}"
 
 
 TABLE_COLUMNS = (
@@ -607,7 +547,7 @@ def _astar_section(page: "Page", tagged: list[dict[str, Any]], variants: list[Va
            "version) against the waypoints the released A* variants follow. Deviation: mean distance (m) from "
            "points sampled along one polyline to the other, averaged over both directions. Computed from the "
            "shipped terrain data, not from stored trials.")
-    page.raw(_plain_table_html(groups, ASTAR_GROUP_COLUMNS)
+    page.raw(table_html(groups, ASTAR_GROUP_COLUMNS)
              + " <a href='astar_paths.csv'>astar_paths.csv</a>, per terrain: "
              "<a href='astar_paths_terrains.csv'>astar_paths_terrains.csv</a>")
     page.raw(f"<details><summary>planner config used</summary><pre>{html.escape(json.dumps(to_dict(cfg.planner), indent=2))}"
@@ -618,7 +558,7 @@ def _astar_section(page: "Page", tagged: list[dict[str, Any]], variants: list[Va
     if src:
         page.csv("astar_sources.csv", src, SOURCE_COLUMNS)
         page.p("Stored A* runs with both waypoint sources, on the terrains both ran:")
-        page.raw(_plain_table_html(src, SOURCE_COLUMNS) + " <a href='astar_sources.csv'>astar_sources.csv</a>")
+        page.raw(table_html(src, SOURCE_COLUMNS) + " <a href='astar_sources.csv'>astar_sources.csv</a>")
 
 
 # ------------------------------------------------------------------ statuses
@@ -646,124 +586,3 @@ def status_lines(variants: list[Variant], tagged: list[dict[str, Any]]) -> list[
                 out.append(line(group, v.label, v.config_hash, rs))
     out.append(line("all", "all seed-0 trials", "", tagged))
     return out
-
-
-# ------------------------------------------------------------------ page assembly
-class Page:
-    """The HTML body being assembled, and the files written beside it."""
-
-    def __init__(self, out_dir: Path):
-        self.out_dir, self.written, self.parts = out_dir, set(), []
-
-    def raw(self, s: str) -> None:
-        self.parts.append(s)
-
-    def h2(self, s: str) -> None:
-        self.raw(f"<h2>{s}</h2>")
-
-    def h3(self, s: str) -> None:
-        self.raw(f"<h3>{s}</h3>")
-
-    def p(self, s: str) -> None:
-        self.raw(f"<p>{s}</p>")
-
-    def figure(self, fig, name: str, caption: str) -> None:
-        """Save ``fig`` as ``name`` (PNG) beside the page and show it with ``caption`` (HTML)."""
-        fig.savefig(self.out_dir / name, dpi=110, bbox_inches="tight")
-        plt.close(fig)
-        self.written.add(name)
-        self.raw(f"<figure><a href='{name}'><img src='{name}' alt='{name}'></a><figcaption>{caption}</figcaption></figure>")
-
-    def csv(self, name: str, lines: list[dict[str, Any]], columns: Iterable[str]) -> None:
-        """Write ``lines`` as ``name`` beside the page, one column per name in ``columns``."""
-        columns = list(columns)
-        with (self.out_dir / name).open("w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(list(columns))
-            for ln in lines:
-                w.writerow([_cell(ln.get(c)) for c in columns])
-        self.written.add(name)
-
-    def finish(self) -> Path:
-        """Write ``index.html``, remove outputs of earlier reports not written now; its path."""
-        index = self.out_dir / "index.html"
-        index.write_text(
-            "<!doctype html><html><head><meta charset='utf-8'><title>terrabench: MRS-CWC benchmark</title>"
-            f"<style>{_CSS}</style></head><body><h1>MRS-CWC rough-terrain navigation benchmark</h1>"
-            + "\n".join(self.parts) + "</body></html>"
-        )
-        self.written.add(index.name)
-        for name in OUTPUTS:
-            if name not in self.written:
-                (self.out_dir / name).unlink(missing_ok=True)
-        return index
-
-
-_CSS = (
-    "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em}"
-    "table{border-collapse:collapse;margin:.5em 0;font-size:90%}"
-    "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}td:first-child{text-align:left}"
-    "th{background:#eee}.far{background:#fdd;font-weight:bold}.note{color:#a60}"
-    "img{max-width:100%}small{color:#777}pre{background:#f6f6f6;padding:.5em;font-size:80%}"
-)
-
-
-def _note(s: str) -> str:
-    return f"<p class=note>{html.escape(s)}</p>"
-
-
-def _plain_table_html(lines: list[dict[str, Any]], columns: Iterable[str]) -> str:
-    columns = list(columns)
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(_cell(ln.get(c)))}</td>" for c in columns) + "</tr>"
-                   for ln in lines)
-    return f"<table><tr>{head}</tr>{body}</table>"
-
-
-def _cell(v: Any) -> str:
-    """A CSV/HTML cell: blank for missing or NaN, floats to 4 decimals."""
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return ""
-    if isinstance(v, float):
-        return str(round(v, 4))
-    return str(v)
-
-
-def _provenance_html(store, rows, rows0, variants: list[Variant]) -> str:
-    """Store, trial counts, total times and every config used (diff from defaults + full JSON)."""
-    from terrabench._version import __version__
-
-    defaults = _flatten(to_dict(MRSConfig()))
-    configs: dict[str, dict[str, Any]] = {}
-    users: dict[str, list[str]] = {}
-    counts: dict[str, int] = {}
-    for r in rows:
-        configs.setdefault(r["config_hash"], r["config"])
-        counts[r["config_hash"]] = counts.get(r["config_hash"], 0) + 1
-        if r["method"] not in users.setdefault(r["config_hash"], []):
-            users[r["config_hash"]].append(r["method"])
-    sim = sum(r["metrics"].get("sim_time", 0.0) for r in rows)
-    wall = sum(r["wall_time"] for r in rows)
-    parts = [
-        "<ul>",
-        f"<li>store: <code>{html.escape(str(Path(store.path).resolve()))}</code></li>",
-        f"<li>mrs-cwc trials stored: {len(rows)}; seed 0 (in the tables and figures): {len(rows0)}; "
-        f"seeds &gt; 0 (not shown): {len(rows) - len(rows0)}</li>",
-        f"<li>total simulated time {sim / 3600:.2f} h, total trial wall time {wall / 3600:.2f} h "
-        "(all stored trials)</li>",
-        f"<li>methods shown: {len(variants)} (method, config) variant(s)</li>",
-        f"<li>written by terrabench {__version__} at {_dt.datetime.now().isoformat(timespec='seconds')}</li>",
-        "</ul><h3>Configs used</h3>",
-    ]
-    for h, cfg in sorted(configs.items(), key=lambda kv: -counts[kv[0]]):
-        flat = _flatten(cfg)
-        # a trial stores only the sections its method reads: compare those
-        diff = [f"{k}={flat.get(k)!r}" for k in sorted(flat)
-                if canonical_json(flat.get(k)) != canonical_json(defaults.get(k))]
-        parts.append(
-            f"<details id='cfg-{h}'><summary><code>{h}</code>: {counts[h]} trial(s), methods "
-            f"{html.escape(', '.join(users[h]))}; differs from this version's defaults in: "
-            f"{html.escape('; '.join(diff) or 'nothing')}</summary>"
-            f"<pre>{html.escape(json.dumps(cfg, indent=2, sort_keys=True))}</pre></details>"
-        )
-    return "\n".join(parts)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from terrabench.config import check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
-from terrabench.systems.base import check_finite_positive
 from terrabench.systems.mrs_cwc.control import (
     DriveConfig,
     FollowConfig,
@@ -47,27 +47,22 @@ class ProtocolConfig:
         stall_distance: the movement / d_min improvement that counts as progress (m).
     """
 
-    start_xy: tuple[float, float] = (0.0, 0.0)
-    target_xy: tuple[float, float] = (9.0, -9.0)
-    drop_height: float = 0.5
-    drop_probe_x: tuple[float, ...] = (0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5)
-    success_threshold: float = 0.5
-    timeout: float = 1000.0
-    fall_z: float = -50.0
-    control_period: float = 0.025
-    log_period: float = 0.1
-    divergence_check_period: float = 0.5
-    start_jitter: float = 0.05
-    stall_time: float = 0.0
-    stall_distance: float = 0.05
+    start_xy: tuple[float, float] = param((0.0, 0.0), length=2, unit="m", doc="leader start; the chain trails along -x")
+    target_xy: tuple[float, float] = param((9.0, -9.0), length=2, unit="m", doc="target position")
+    drop_height: float = param(0.5, ge=0, unit="m", doc="drop above the highest sampled terrain point")
+    drop_probe_x: tuple[float, ...] = param((0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5), length=8, unit="m", doc="x positions sampled at the start y for the drop height")
+    success_threshold: float = param(0.5, gt=0, unit="m", doc="XY leader-target distance that counts as arrival")
+    timeout: float = param(1000.0, gt=0, unit="s", doc="simulated time limit")
+    fall_z: float = param(-50.0, le=0, unit="m", doc="leader below this height has fallen off the world")
+    control_period: float = param(0.025, gt=0, unit="s", doc="controller period")
+    log_period: float = param(0.1, gt=0, unit="s", doc="period of the stored leader time series")
+    divergence_check_period: float = param(0.5, gt=0, unit="s", doc="how often the state is checked for blow-up")
+    start_jitter: float = param(0.05, ge=0, unit="m", doc="seeds > 0 shift the start by up to this much in x and y")
+    stall_time: float = param(0.0, ge=0, unit="s", doc="opt-in stall stop after this long without progress (0 = off)")
+    stall_distance: float = param(0.05, gt=0, unit="m", doc="movement / d_min improvement that counts as progress")
 
     def __post_init__(self) -> None:
-        check_finite_positive("timeout", self.timeout, "simulated seconds")
-        check_finite_positive("success threshold", self.success_threshold, "m")
-        check_finite_positive("control period", self.control_period, "s")
-        if not (self.stall_time >= 0 and self.stall_distance > 0):
-            raise ValueError(f"stall_time must be >= 0 (0 = off) and stall_distance > 0, got "
-                             f"{self.stall_time!r}, {self.stall_distance!r}")
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -95,11 +90,10 @@ class MRSConfig:
     head_following: HeadFollowingConfig = field(default_factory=HeadFollowingConfig)
     follow: FollowConfig = field(default_factory=FollowConfig)
     waypoints: WaypointConfig = field(default_factory=WaypointConfig)
-    waypoint_source: str = "released"
+    waypoint_source: str = param("released", choices=WAYPOINT_SOURCES, doc="waypoints: the released CSV or our A* planner")
     planner: PlannerConfig = field(default_factory=PlannerConfig)
 
     def __post_init__(self) -> None:
-        if self.waypoint_source not in WAYPOINT_SOURCES:
-            raise ValueError(f"unknown waypoint source {self.waypoint_source!r}; valid: {', '.join(WAYPOINT_SOURCES)}")
+        check_fields(self)
         pr = self.protocol
         Timing(pr.control_period, pr.timeout, pr.divergence_check_period, pr.log_period).substeps(self.physics.timestep)

@@ -20,6 +20,7 @@ from typing import Protocol
 
 import numpy as np
 
+from terrabench.config import check_fields, param
 from terrabench.systems.mrs_cwc.sensing import Observation, wrap, wrap_scalar
 
 STIFFNESS_MODES = ("released", "eq12", "constant")
@@ -34,8 +35,8 @@ class DriveConfig:
         turn_gain: differential gain on the heading error (rad/s per rad).
     """
 
-    wheel_speed: float = 1.5
-    turn_gain: float = 0.6
+    wheel_speed: float = param(1.5, gt=0, unit="rad/s", doc="nominal wheel speed")
+    turn_gain: float = param(0.6, ge=0, unit="rad/s per rad", doc="differential gain on the heading error")
 
 
 @dataclass(frozen=True)
@@ -60,24 +61,21 @@ class StiffnessLawConfig:
     (``protocol.control_period``), passed to :class:`StiffnessLaw`: one value in one place.
     """
 
-    mode: str = "released"
-    k_low: float = 5.0
-    k_high: float = 100.0
-    k_init: float = 0.1
-    latch_on: float = 20.0
-    latch_off: float = 1.0
-    inertia: float = 0.0042181
-    motor_gain: float = 1.2
-    sign_error_threshold: float = 0.6
-    memory_rate: float = 0.1
-    ema: float = 0.03
-    window: int = 5
+    mode: str = param("released", choices=STIFFNESS_MODES, doc="CWC law: released (latch + sign memory), eq12, constant (CS)")
+    k_low: float = param(5.0, gt=0, unit="N m/rad", doc="soft yaw stiffness")
+    k_high: float = param(100.0, gt=0, unit="N m/rad", doc="stiff yaw stiffness")
+    k_init: float = param(0.1, gt=0, unit="N m/rad", doc="stiffness at t = 0")
+    latch_on: float = param(20.0, ge=0, unit="N m", doc="|tau_env| above which soft latches on")
+    latch_off: float = param(1.0, ge=0, unit="N m", doc="|tau_env| below which soft releases")
+    inertia: float = param(0.0042181, gt=0, unit="kg m^2", doc="leader yaw inertia used in tau_env")
+    motor_gain: float = param(1.2, ge=0, doc="steering torque per unit (tau_R - tau_L)")
+    sign_error_threshold: float = param(0.6, ge=0, unit="rad", doc="|0.5 e| at or above which the sign memory updates")
+    memory_rate: float = param(0.1, ge=0, le=1, doc="weight of a new sign in the memory")
+    ema: float = param(0.03, gt=0, le=1, doc="weight of K* in the first-order smoothing")
+    window: int = param(5, ge=1, doc="length of the moving average after the smoothing")
 
     def __post_init__(self) -> None:
-        if self.mode not in STIFFNESS_MODES:
-            raise ValueError(f"unknown stiffness mode {self.mode!r}; valid: {', '.join(STIFFNESS_MODES)}")
-        if self.k_low <= 0 or self.k_high <= 0:
-            raise ValueError(f"stiffnesses must be positive, got k_low={self.k_low}, k_high={self.k_high}")
+        check_fields(self)
 
 
 class StiffnessLaw:
@@ -149,8 +147,8 @@ class WaypointConfig:
         patience: advance anyway after this long on one waypoint (s).
     """
 
-    reach_radius: float = 0.5
-    patience: float = 90.0
+    reach_radius: float = param(0.5, gt=0, unit="m", doc="advance when the leader is this close to the waypoint")
+    patience: float = param(90.0, gt=0, unit="s", doc="advance anyway after this long on one waypoint")
 
 
 class WaypointGuidance:
@@ -256,12 +254,12 @@ class HeadFollowingConfig:
         compliance: torque-to-angle compliance (rad per N m).
     """
 
-    follower_wheel_speed: float = math.pi / 2
-    dead_band: float = math.radians(25.0)
-    head_angle: float = math.radians(35.0)
-    ema: float = 0.03
-    delay_steps: int = 20
-    compliance: float = 0.01
+    follower_wheel_speed: float = param(math.pi / 2, gt=0, unit="rad/s", doc="constant wheel speed of the followers")
+    dead_band: float = param(math.radians(25.0), ge=0, le=math.pi, unit="rad", doc="|e| below which the head joint target is 0")
+    head_angle: float = param(math.radians(35.0), ge=0, le=math.pi, unit="rad", doc="head joint target magnitude outside the dead band")
+    ema: float = param(0.03, gt=0, le=1, doc="smoothing weight of the head target")
+    delay_steps: int = param(20, ge=1, doc="control periods by which each joint repeats its predecessor")
+    compliance: float = param(0.01, ge=0, unit="rad/(N m)", doc="torque-to-angle compliance")
 
 
 class HeadFollowing:
@@ -307,10 +305,10 @@ class FollowConfig:
             of rad/s, races, and MuJoCo diverges (docs/assumptions.md).
     """
 
-    bearing_gain: float = 10.0
-    speed_gain: float = 5.0
-    stop_distance: float = 0.1
-    max_wheel_speed: float = 6.0
+    bearing_gain: float = param(10.0, ge=0, doc="gain on the bearing error")
+    speed_gain: float = param(5.0, ge=0, unit="rad/s/m", doc="wheel speed per metre of excess distance")
+    stop_distance: float = param(0.1, ge=0, unit="m", doc="followers stop within this distance")
+    max_wheel_speed: float = param(6.0, gt=0, unit="rad/s", doc="cap on a follower wheel-speed command")
 
 
 class FollowByPosition:

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
+from terrabench.config import param
 from terrabench.planning.astar import MOVE_LENGTH, MOVES, astar, simplify
 from terrabench.terrain import sine_sum
 
@@ -41,15 +42,15 @@ class PlannerConfig:
         max_spacing: longest allowed distance between consecutive waypoints (m).
     """
 
-    cell: float = 0.1475
-    w_climb: float = 4.0
-    w_descent: float = 1.0
-    w_tip: float = 6.0
-    max_slope_deg: float = 50.0
-    max_cross_deg: float = 45.0
-    steep_penalty: float = 50.0
-    simplify_tolerance: float = 0.3
-    max_spacing: float = 2.5
+    cell: float = param(0.1475, gt=0, unit="m", doc="planning grid spacing")
+    w_climb: float = param(4.0, ge=0, doc="weight of squared uphill slope")
+    w_descent: float = param(1.0, ge=0, doc="weight of squared downhill slope")
+    w_tip: float = param(6.0, ge=0, doc="weight of squared cross slope")
+    max_slope_deg: float = param(50.0, gt=0, le=90, unit="deg", doc="steepest allowed slope along a move")
+    max_cross_deg: float = param(45.0, gt=0, le=90, unit="deg", doc="steepest allowed cross slope")
+    steep_penalty: float = param(50.0, ge=0, doc="extra cost per metre of a move beyond either limit")
+    simplify_tolerance: float = param(0.3, ge=0, unit="m", doc="Douglas-Peucker tolerance of the waypoint list")
+    max_spacing: float = param(2.5, gt=0, unit="m", doc="longest distance between consecutive waypoints")
 
 
 def height_map(terrain, cell: float):

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from terrabench.config import check_fields, param
 from terrabench.terrain.mjcf import GROUND_BIT
 
 LINK_VARIANTS = ("spring", "motor", "none")
@@ -97,50 +98,47 @@ class ChainConfig:
         yaw_kv: damping of the MJ yaw servo (N m s/rad).
     """
 
-    n_units: int = 6
-    spacing: float = 0.30
-    joint_offset: float = 0.15
-    body_radius: float = 0.05
-    body_length: float = 0.20
-    body_mass: float = 3.374
-    com_drop: float = 0.10
-    body_inertia_per_kg: tuple[float, float, float] = (0.00125, 0.003177, 0.003177)
-    wheel_radius: float = 0.05
-    wheel_width: float = 0.02
-    wheel_mass: float = 1.57
-    wheel_shape: str = "cylinder"
-    track_half: float = 0.06
-    axle_drop: float = 0.025
-    wheel_friction: float = 2.0
-    wheel_kv: float = 100.0 / 1.5
-    wheel_torque_limit: float = 100.0
-    wheel_drive: str = "servo"
-    drive_solref: tuple[float, float] = (0.01, 1.0)
-    drive_solimp: tuple[float, float, float, float, float] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
-    drive_ref_armature: float = 1e4
-    wheel_solref: tuple[float, float] = (0.02, 1.0)
-    wheel_solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
-    noslip_iterations: int = 0
-    bumper_radius: float = 0.09
-    bumper_thickness: float = 0.02
-    bumper_mass: float = 2.8
-    bumper_ahead: float = 0.12
-    bumper_up: float = 0.05
-    bumper_touches_ground: bool = True
-    link_mass_spring: float = 0.4
-    link_mass_motor: float = 1.3
-    k_pitch: float = 15.0
-    k_roll: float = 30.0
-    k_yaw_init: float = 0.1
-    link_damping: float = 0.5
-    yaw_kp: float = 50.0
-    yaw_kv: float = 5.0
+    n_units: int = param(6, ge=2, doc="number of units (the leader and at least one follower)")
+    spacing: float = param(0.30, gt=0, unit="m", doc="distance between consecutive unit centres")
+    joint_offset: float = param(0.15, gt=0, unit="m", doc="joint point behind each unit centre")
+    body_radius: float = param(0.05, gt=0, unit="m", doc="body capsule radius")
+    body_length: float = param(0.20, gt=0, unit="m", doc="body capsule length, end to end")
+    body_mass: float = param(3.374, gt=0, unit="kg", doc="body mass of one unit")
+    com_drop: float = param(0.10, ge=0, unit="m", doc="centre of mass below the capsule centre")
+    body_inertia_per_kg: tuple[float, float, float] = param((0.00125, 0.003177, 0.003177), length=3, gt=0, unit="m^2", doc="principal inertia / mass (longitudinal, lateral, vertical)")
+    wheel_radius: float = param(0.05, gt=0, unit="m", doc="wheel radius")
+    wheel_width: float = param(0.02, gt=0, unit="m", doc="wheel width")
+    wheel_mass: float = param(1.57, gt=0, unit="kg", doc="mass of each wheel")
+    wheel_shape: str = param("cylinder", choices=WHEEL_SHAPES, doc="wheel collision shape against the ground")
+    track_half: float = param(0.06, gt=0, unit="m", doc="lateral offset of each wheel")
+    axle_drop: float = param(0.025, ge=0, unit="m", doc="axle below the body centre")
+    wheel_friction: float = param(2.0, ge=0, doc="wheel-ground friction coefficient")
+    wheel_kv: float = param(100.0 / 1.5, gt=0, unit="N m s/rad", doc="velocity-servo gain of the wheel motors")
+    wheel_torque_limit: float = param(100.0, gt=0, unit="N m", doc="wheel motor torque limit")
+    wheel_drive: str = param("servo", choices=WHEEL_DRIVES, doc="wheel motor model: velocity servo or Bullet-like velocity constraint")
+    drive_solref: tuple[float, float] = param((0.01, 1.0), length=2, gt=0, doc="MuJoCo solref (timeconst s, dampratio) of the drive constraint")
+    drive_solimp: tuple[float, float, float, float, float] = param((0.9999, 0.9999, 0.001, 0.5, 2.0), length=5, gt=0, doc="MuJoCo solimp of the drive constraint")
+    drive_ref_armature: float = param(1e4, gt=0, unit="kg m^2", doc="inertia of each drive reference hinge")
+    wheel_solref: tuple[float, float] = param((0.02, 1.0), length=2, gt=0, doc="MuJoCo solref (timeconst s, dampratio) of the wheel-ground contact")
+    wheel_solimp: tuple[float, float, float, float, float] = param((0.9, 0.95, 0.001, 0.5, 2.0), length=5, gt=0, doc="MuJoCo solimp of the wheel-ground contact")
+    noslip_iterations: int = param(0, ge=0, doc="MuJoCo noslip post-solver iterations (0 = off)")
+    bumper_radius: float = param(0.09, gt=0, unit="m", doc="leader bumper disc radius")
+    bumper_thickness: float = param(0.02, gt=0, unit="m", doc="leader bumper disc thickness")
+    bumper_mass: float = param(2.8, gt=0, unit="kg", doc="leader bumper mass")
+    bumper_ahead: float = param(0.12, ge=0, unit="m", doc="bumper centre ahead of the leader centre")
+    bumper_up: float = param(0.05, ge=0, unit="m", doc="bumper centre above the leader centre")
+    bumper_touches_ground: bool = param(True, doc="whether the bumper collides with the terrain")
+    link_mass_spring: float = param(0.4, gt=0, unit="kg", doc="each of the two link masses of the spring variant")
+    link_mass_motor: float = param(1.3, gt=0, unit="kg", doc="link mass of the motor variant")
+    k_pitch: float = param(15.0, gt=0, unit="N m/rad", doc="pitch spring stiffness")
+    k_roll: float = param(30.0, gt=0, unit="N m/rad", doc="roll spring stiffness")
+    k_yaw_init: float = param(0.1, gt=0, unit="N m/rad", doc="yaw stiffness at t = 0")
+    link_damping: float = param(0.5, ge=0, unit="N m s/rad", doc="viscous damping of every link hinge")
+    yaw_kp: float = param(50.0, gt=0, lt=100, unit="N m/rad", doc="MJ yaw servo position gain (>= 100 oscillates: see docstring)")
+    yaw_kv: float = param(5.0, ge=0, unit="N m s/rad", doc="MJ yaw servo damping")
 
     def __post_init__(self) -> None:
-        if self.wheel_drive not in WHEEL_DRIVES:
-            raise ValueError(f"unknown wheel drive {self.wheel_drive!r}; valid: {', '.join(WHEEL_DRIVES)}")
-        if self.wheel_shape not in WHEEL_SHAPES:
-            raise ValueError(f"unknown wheel shape {self.wheel_shape!r}; valid: {', '.join(WHEEL_SHAPES)}")
+        check_fields(self)
 
 
 class Names:

@@ -83,8 +83,8 @@ def test_lateral_force_grows_with_slip_angle():
 
 
 def test_slip_conventions():
-    np.testing.assert_allclose(kappa_from_slip([0.0, 0.5, 1.0, -0.5]), [1.0, 0.5, 0.0, 2.0])
-    for bad in (1.5, -1.0, np.nan):
+    np.testing.assert_allclose(kappa_from_slip([0.0, 0.5, 1.0, -0.5, -1.0]), [1.0, 0.5, 0.0, 2.0, np.inf])
+    for bad in (1.5, -1.01, np.nan):
         with pytest.raises(ValueError, match="slip"):
             kappa_from_slip(bad)
 
@@ -98,7 +98,7 @@ def test_efficiency_definition():
 
 BAD_SOIL = [("n", 0.0), ("n", 3.5), ("k_c", -1.0), ("k_phi", 0.0), ("k_phi", -5.0), ("c", -1.0),
             ("phi_deg", 0.0), ("phi_deg", 90.0), ("phi_deg", -10.0), ("K", 0.0), ("K_y", -0.01),
-            ("a0", -0.1), ("a0", 1.0), ("a1", -0.1), ("a1", 0.7), ("c_exit", -0.1), ("c_exit", 1.5),
+            ("a0", -0.1), ("a0", 1.0), ("a1", -1.1), ("a1", 0.7), ("n1", 2.5), ("n2", -1.5), ("gamma", 0.0), ("bulldoze", -1.0), ("a1_skid", 1.5), ("c_exit", -0.1), ("c_exit", 1.5),
             ("k_phi", float("nan"))]
 
 

@@ -16,9 +16,9 @@ Per wheel and per call (all wheels vectorised):
 3. Heading frame: axle ``a`` = the wheel body's y axis, forward ``f = a x n``, lateral
    ``l = n x f``. Hub velocity ``v`` from ``data.cvel``; spin ``omega = w . a``.
 4. Slip ``s = (r omega - v_x) / max(|r omega|, |v_x|, v_eps)`` in the travel direction
-   (mirrored when the wheel runs backwards); lateral slip ratio ``q = |v_y| / max(|r omega|,
-   v_eps)``.
-5. Forces from the :class:`~terrabench.soil.table.SoilTable`: normal ``W(z, s) - c_d v_n``
+   (mirrored when the wheel runs backwards), in [-1, 1] (-1: locked); lateral ratio
+   ``C = |v_y| / max(|r omega|, |v_x|, v_eps)``.
+5. Forces from the :class:`~terrabench.soil.table.SoilTable`: normal ``W(z, s, C) - c_d v_n``
    (>= 0; ``c_d`` damps the sinkage rate so a wheel settles instead of bouncing), drawbar pull
    ``DP`` along f and resisting torque ``T`` about a, both scaled by
    ``g = min(1, max(|r omega|, |v_x|)/v_eps)`` so a wheel at rest feels no rolling resistance
@@ -29,67 +29,160 @@ Per wheel and per call (all wheels vectorised):
 The rigid contact of the soil wheels is switched off (their geoms' contype and conaffinity
 set to 0 in ``model``) unless ``disable_contact=False``.
 
+Steps 1-5 for all wheels run in one compiled kernel (numba, cached on disk; heightfield and
+flat ground inside it, any other ``ground`` callable evaluated in Python first), so soil forces
+every physics step (``every=1``, the default) cost a few microseconds.
+
 Ground truth (sinkage, slip) is kept in :attr:`SoilWheels.truth` for metrics and tests only;
 controllers must use :mod:`terrabench.soil.estimation` (encoder + body-velocity estimate).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Callable, Sequence
 
 import mujoco
+import numba
 import numpy as np
 
-from terrabench.soil.table import SoilTable
-from terrabench.soil.terramechanics import SLIP_MAX, SLIP_MIN, SoilParams, WheelParams
+from terrabench.soil.table import SoilTable, lookup_one
+from terrabench.soil.terramechanics import SoilParams, WheelParams
 
 Ground = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
+_FLAT, _HFIELD, _CALLBACK = 0, 1, 2
 
-def flat_ground(height: float = 0.0) -> Ground:
+
+class flat_ground:  # noqa: N801 - kept a function-like name: ``flat_ground(h)`` is the public API
     """A horizontal plane at ``height`` (m): ``ground(x, y) -> (z (N,), normal (N, 3))``."""
 
-    def ground(x, y):
+    kind = _FLAT
+
+    def __init__(self, height: float = 0.0):
+        self.height = float(height)
+        self.h = np.zeros((2, 2))
+        self.params = np.array([0.0, 0.0, self.height, 1.0, 1.0, 1.0, 1.0, 2.0, 2.0])
+
+    def __call__(self, x, y):
         x = np.asarray(x, float)
         n = np.zeros((x.size, 3))
         n[:, 2] = 1.0
-        return np.full(x.size, height), n
-
-    return ground
+        return np.full(x.size, self.height), n
 
 
-def hfield_ground(model: mujoco.MjModel, geom: str | int) -> Ground:
+class hfield_ground:  # noqa: N801
     """Height and normal of a MuJoCo heightfield geom (axis-aligned, unrotated), bilinear.
 
     MuJoCo stores ``nrow x ncol`` values in [0, 1], rows along +y, columns along +x, over
     ``[-size_x, size_x] x [-size_y, size_y]`` around the geom, scaled by ``size_z``. Points
     outside the field are clamped to its edge.
     """
-    gid = geom if isinstance(geom, int) else mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
-    if gid < 0 or model.geom_type[gid] != mujoco.mjtGeom.mjGEOM_HFIELD:
-        raise ValueError(f"geom={geom!r} is not a heightfield geom of this model")
-    hid = model.geom_dataid[gid]
-    nrow, ncol = model.hfield_nrow[hid], model.hfield_ncol[hid]
-    sx, sy, sz, _ = model.hfield_size[hid]
-    adr = model.hfield_adr[hid]
-    h = model.hfield_data[adr: adr + nrow * ncol].reshape(nrow, ncol) * sz
-    pos = model.geom_pos[gid].copy()
-    dx, dy = 2 * sx / (ncol - 1), 2 * sy / (nrow - 1)
 
-    def ground(x, y):
-        u = np.clip((np.asarray(x, float) - pos[0] + sx) / dx, 0, ncol - 1 - 1e-9)
-        w = np.clip((np.asarray(y, float) - pos[1] + sy) / dy, 0, nrow - 1 - 1e-9)
-        c, r = u.astype(np.intp), w.astype(np.intp)
-        tu, tw = u - c, w - r
-        h00, h01, h10, h11 = h[r, c], h[r, c + 1], h[r + 1, c], h[r + 1, c + 1]
-        z = (1 - tw) * ((1 - tu) * h00 + tu * h01) + tw * ((1 - tu) * h10 + tu * h11)
-        dzdx = ((1 - tw) * (h01 - h00) + tw * (h11 - h10)) / dx
-        dzdy = ((1 - tu) * (h10 - h00) + tu * (h11 - h01)) / dy
-        n = np.stack([-dzdx, -dzdy, np.ones_like(z)], axis=-1)
-        n /= np.linalg.norm(n, axis=-1, keepdims=True)
-        return z + pos[2], n
+    kind = _HFIELD
 
-    return ground
+    def __init__(self, model: mujoco.MjModel, geom: str | int):
+        gid = geom if isinstance(geom, int) else mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+        if gid < 0 or model.geom_type[gid] != mujoco.mjtGeom.mjGEOM_HFIELD:
+            raise ValueError(f"geom={geom!r} is not a heightfield geom of this model")
+        hid = model.geom_dataid[gid]
+        nrow, ncol = int(model.hfield_nrow[hid]), int(model.hfield_ncol[hid])
+        sx, sy, sz, _ = model.hfield_size[hid]
+        adr = model.hfield_adr[hid]
+        self.h = np.ascontiguousarray(model.hfield_data[adr: adr + nrow * ncol].reshape(nrow, ncol) * sz, dtype=float)
+        pos = model.geom_pos[gid]
+        self.params = np.array([pos[0], pos[1], pos[2], sx, sy, 2 * sx / (ncol - 1), 2 * sy / (nrow - 1),
+                                float(nrow), float(ncol)])
+
+    def __call__(self, x, y):
+        x = np.atleast_1d(np.asarray(x, float))
+        y = np.atleast_1d(np.asarray(y, float))
+        z = np.empty(x.size)
+        n = np.empty((x.size, 3))
+        for i in range(x.size):
+            z[i], n[i, 0], n[i, 1], n[i, 2] = _hfield_at(x[i], y[i], self.h, self.params)
+        return z, n
+
+
+@numba.njit(cache=True, inline="always")
+def _hfield_at(x, y, h, gp):
+    nrow, ncol = int(gp[7]), int(gp[8])
+    u = min(max((x - gp[0] + gp[3]) / gp[5], 0.0), ncol - 1 - 1e-9)
+    w = min(max((y - gp[1] + gp[4]) / gp[6], 0.0), nrow - 1 - 1e-9)
+    c, r = int(u), int(w)
+    tu, tw = u - c, w - r
+    h00, h01, h10, h11 = h[r, c], h[r, c + 1], h[r + 1, c], h[r + 1, c + 1]
+    z = (1 - tw) * ((1 - tu) * h00 + tu * h01) + tw * ((1 - tu) * h10 + tu * h11)
+    dzdx = ((1 - tw) * (h01 - h00) + tw * (h11 - h10)) / gp[5]
+    dzdy = ((1 - tu) * (h10 - h00) + tu * (h11 - h01)) / gp[6]
+    nn = math.sqrt(dzdx * dzdx + dzdy * dzdy + 1.0)
+    return z + gp[2], -dzdx / nn, -dzdy / nn, 1.0 / nn
+
+
+@numba.njit(cache=True)
+def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, gp, zg_in, n_in,
+                 tab, dwdz, tp, r, damping, v_eps, truth):
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        px, py, pz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
+        ax, ay, az = xmat[b, 1], xmat[b, 4], xmat[b, 7]
+        wx, wy, wz = cvel[b, 0], cvel[b, 1], cvel[b, 2]
+        rx, ry, rz = px - scom[roots[i], 0], py - scom[roots[i], 1], pz - scom[roots[i], 2]
+        vx_ = cvel[b, 3] + wy * rz - wz * ry
+        vy_ = cvel[b, 4] + wz * rx - wx * rz
+        vz_ = cvel[b, 5] + wx * ry - wy * rx
+        if gmode == 0:
+            zg, nx, ny, nz = gp[2], 0.0, 0.0, 1.0
+        elif gmode == 1:
+            zg, nx, ny, nz = _hfield_at(px, py, gh, gp)
+        else:
+            zg, nx, ny, nz = zg_in[i], n_in[i, 0], n_in[i, 1], n_in[i, 2]
+        # heading f = a x n, lateral l = n x f
+        fx, fy, fz = ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
+        fn = math.sqrt(fx * fx + fy * fy + fz * fz)
+        if fn < 1e-12:
+            fn = 1e-12
+        fx, fy, fz = fx / fn, fy / fn, fz / fn
+        lx, ly, lz = ny * fz - nz * fy, nz * fx - nx * fz, nx * fy - ny * fx
+        sink = r - (pz - zg) * nz
+        vf = vx_ * fx + vy_ * fy + vz_ * fz
+        vl = vx_ * lx + vy_ * ly + vz_ * lz
+        vn = vx_ * nx + vy_ * ny + vz_ * nz
+        rw = r * (wx * ax + wy * ay + wz * az)
+        d = 1.0 if rw + vf >= 0 else -1.0
+        big = max(abs(rw), abs(vf))
+        den = max(big, v_eps)
+        s = min(max(d * (rw - vf) / den, -1.0), 1.0)
+        C = abs(vl) / den
+        W, DP, T, Fy = lookup_one(sink, s, C, tab, dwdz, tp)
+        fade = min(big / v_eps, 1.0)
+        Fn = W - damping * vn
+        if Fn < 0.0 or sink <= 0.0:
+            Fn = 0.0
+        dpf = d * DP * fade
+        tf = d * T * fade
+        fyv = -Fy if vl > 0 else (Fy if vl < 0 else 0.0)
+        Fax, Fay, Faz = Fn * nx + dpf * fx, Fn * ny + dpf * fy, Fn * nz + dpf * fz
+        Flx, Fly, Flz = fyv * lx, fyv * ly, fyv * lz
+        arx, ary, arz = px - xipos[b, 0], py - xipos[b, 1], pz - xipos[b, 2]
+        brx, bry, brz = arx - r * nx, ary - r * ny, arz - r * nz
+        xfrc[b, 0] = Fax + Flx
+        xfrc[b, 1] = Fay + Fly
+        xfrc[b, 2] = Faz + Flz
+        xfrc[b, 3] = -tf * ax + (ary * Faz - arz * Fay) + (bry * Flz - brz * Fly)
+        xfrc[b, 4] = -tf * ay + (arz * Fax - arx * Faz) + (brz * Flx - brx * Flz)
+        xfrc[b, 5] = -tf * az + (arx * Fay - ary * Fax) + (brx * Fly - bry * Flx)
+        truth[0, i] = sink
+        truth[1, i] = s
+        truth[2, i] = C
+        truth[3, i] = W
+        truth[4, i] = dpf
+        truth[5, i] = tf
+        truth[6, i] = Fy
+        truth[7, i] = Fn
+
+
+_TRUTH = ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn")
 
 
 def _body_ids(model: mujoco.MjModel, wheels: Sequence[str | int]) -> np.ndarray:
@@ -128,12 +221,13 @@ class SoilWheels:
         wheel: wheel geometry (radius, width).
         soil: soil parameters, or a prebuilt :class:`SoilTable` for (soil, wheel).
         ground: ``ground(x, y) -> (z, normal)``; default a flat plane at z = 0.
+            :class:`flat_ground` and :class:`hfield_ground` are evaluated inside the kernel.
         damping: sinkage-rate damping c_d (N s/m) per wheel; None = ``damping_ratio`` times
             critical for the nominal load on the soil's stiffness dW/dz at static sinkage.
         damping_ratio: (-), used when damping is None.
         nominal_load: wheel load (N) for the default damping; None = total model mass x g /
             number of wheels.
-        every: compute forces every k-th call and hold them in between (speed; 1 = each call).
+        every: compute forces every k-th call and hold them in between (1 = each call, default).
         v_eps: speed scale (m/s) regularising slip and fading rolling resistance at rest.
         disable_contact: switch off the wheels' rigid contacts.
         refresh: recompute kinematics and velocities (mj_kinematics, mj_comPos, mj_comVel)
@@ -148,9 +242,9 @@ class SoilWheels:
                  damping: float | None = None, damping_ratio: float = 1.0,
                  nominal_load: float | None = None, every: int = 1, v_eps: float = 0.02,
                  disable_contact: bool = True, refresh: bool = False):
-        if every < 1:
+        if int(every) != every or every < 1:
             raise ValueError(f"every={every!r} is invalid; valid range: integer >= 1")
-        if v_eps <= 0:
+        if not v_eps > 0:
             raise ValueError(f"v_eps={v_eps!r} is invalid; valid range: v_eps > 0 m/s")
         self.table = soil if isinstance(soil, SoilTable) else SoilTable(soil, wheel)
         if self.table.wheel != wheel:
@@ -158,7 +252,7 @@ class SoilWheels:
         self.wheel, self.soil = wheel, self.table.soil
         self.ground = ground or flat_ground()
         self.bodies = _body_ids(model, wheels)
-        self.roots = model.body_rootid[self.bodies]
+        self.roots = np.ascontiguousarray(model.body_rootid[self.bodies], dtype=np.intp)
         self.n = len(self.bodies)
         self.every, self.v_eps = int(every), float(v_eps)
         g = float(np.linalg.norm(model.opt.gravity)) or 9.81
@@ -170,18 +264,30 @@ class SoilWheels:
             dz = self.table.static_sinkage(nominal_load * 1.01) - z0
             k = 0.01 * nominal_load / dz if dz > 0 else nominal_load / max(z0, 1e-3)  # dW/dz (N/m)
             damping = 2.0 * damping_ratio * np.sqrt(k * nominal_load / g)
-        if damping < 0:
+        if not damping >= 0:
             raise ValueError(f"damping={damping!r} is invalid; valid range: damping >= 0 N s/m")
         self.damping = float(damping)
         if disable_contact:
             disable_rigid_contact(model, self.bodies)
         self.refresh = bool(refresh)
         self._model = model
+        kind = getattr(self.ground, "kind", _CALLBACK)
+        self._gmode = kind if kind in (_FLAT, _HFIELD) else _CALLBACK
+        self._gh = np.ascontiguousarray(getattr(self.ground, "h", np.zeros((2, 2))), dtype=float)
+        self._gp = np.ascontiguousarray(getattr(self.ground, "params", np.zeros(9)), dtype=float)
+        self._zg = np.zeros(self.n)
+        self._nrm = np.zeros((self.n, 3))
+        self._truth = np.zeros((len(_TRUTH), self.n))
+        #: ground truth per wheel (views of one array, updated in place at each evaluation)
+        self.truth: dict[str, np.ndarray] = {k: self._truth[i] for i, k in enumerate(_TRUTH)}
         mujoco.mj_forward(model, data)  # valid xpos/xmat/cvel for the first call
+        self._bind(data)
         self._calls = 0
-        self._wrench = np.zeros((self.n, 6))
-        self.truth: dict[str, np.ndarray] = {k: np.zeros(self.n) for k in
-                                             ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn")}
+
+    def _bind(self, data: mujoco.MjData) -> None:
+        # MjData's arrays are views of buffers that live as long as data: fetch them once
+        self._data = data
+        self._views = (data.xpos, data.xmat, data.cvel, data.subtree_com, data.xipos, data.xfrc_applied)
 
     def before_substep(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Compute (every ``every``-th call) and write the soil wrench of each wheel."""
@@ -190,55 +296,24 @@ class SoilWheels:
                 mujoco.mj_kinematics(model, data)
                 mujoco.mj_comPos(model, data)
                 mujoco.mj_comVel(model, data)
-            self._wrench = self._compute(data)
-            data.xfrc_applied[self.bodies] = self._wrench
+            self._step(data)
         self._calls += 1
 
-    def _compute(self, data: mujoco.MjData) -> np.ndarray:
-        # np.cross costs ~15 us per call on small arrays: cross products are written out.
-        r = self.wheel.radius
-        b = self.bodies
-        p = data.xpos[b]
-        a = data.xmat[b][:, 1::3]  # body y axis (axle) in world: column 1 of each xmat
-        cvel = data.cvel[b]
-        w, lin = cvel[:, :3], cvel[:, 3:]
-        rel = p - data.subtree_com[self.roots]
-        v = lin + _cross(w, rel)
-        zg, nrm = self.ground(p[:, 0], p[:, 1])
-        f = _cross(a, nrm)
-        f /= np.sqrt((f * f).sum(1))[:, None]
-        lat = _cross(nrm, f)
-        sink = r - (p[:, 2] - zg) * nrm[:, 2]
-        vx = (v * f).sum(1)
-        vy = (v * lat).sum(1)
-        vn = (v * nrm).sum(1)
-        rw = r * (w * a).sum(1)
-        d = np.where(rw + vx >= 0, 1.0, -1.0)
-        big = np.maximum(np.abs(rw), np.abs(vx))
-        s = np.clip(d * (rw - vx) / np.maximum(big, self.v_eps), SLIP_MIN, SLIP_MAX)
-        q = np.abs(vy) / np.maximum(np.abs(rw), self.v_eps)
-        W, DP, T, Fy = self.table.lookup(sink, s, q)
-        fade = np.minimum(big * (1.0 / self.v_eps), 1.0)
-        Fn = np.maximum(W - self.damping * vn, 0.0) * (sink > 0)
-        dpf = d * DP * fade
-        tf = d * T * fade
-        fy = -np.sign(vy) * Fy
-        F_axle = Fn[:, None] * nrm + dpf[:, None] * f
-        F_lat = fy[:, None] * lat
-        arm = p - data.xipos[b]
-        wrench = np.empty((self.n, 6))
-        wrench[:, :3] = F_axle + F_lat
-        wrench[:, 3:] = -tf[:, None] * a + _cross(arm, F_axle) + _cross(arm - r * nrm, F_lat)
-        t = self.truth
-        t["sinkage"], t["slip"], t["lateral_slip"] = sink, s, q
-        t["W"], t["DP"], t["T"], t["Fy"], t["Fn"] = W, dpf, tf, Fy, Fn
-        return wrench
+    def _step(self, data: mujoco.MjData) -> None:
+        if data is not self._data:
+            self._bind(data)
+        xpos, xmat, cvel, scom, xipos, xfrc = self._views
+        if self._gmode == _CALLBACK:
+            p = xpos[self.bodies]
+            zg, nrm = self.ground(p[:, 0], p[:, 1])
+            self._zg[:] = zg
+            self._nrm[:] = nrm
+        t = self.table
+        _soil_kernel(self.bodies, self.roots, xpos, xmat, cvel, scom, xipos, xfrc, self._gmode, self._gh, self._gp,
+                     self._zg, self._nrm, t.data, t.dWdz_end, t.params, self.wheel.radius, self.damping, self.v_eps,
+                     self._truth)
 
-
-def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (N, 3) arrays."""
-    out = np.empty_like(u)
-    out[:, 0] = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
-    out[:, 1] = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
-    out[:, 2] = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-    return out
+    @property
+    def wrench(self) -> np.ndarray:
+        """The soil wrench (force, moment about the CoM) of each wheel as last written, (N, 6)."""
+        return self._views[5][self.bodies].copy()

@@ -1,22 +1,74 @@
-"""Precomputed (sinkage, slip) tables of the wheel-soil forces for the simulation loop.
+"""Precomputed (sinkage, slip, lateral ratio) tables of the wheel-soil forces for the simulation loop.
 
-One :class:`SoilTable` per (soil, wheel). Uniform grids: sinkage ``z`` in ``[0, r/2]``, slip
-``s`` in ``[SLIP_MIN, 1]``, lateral slip ratio ``q`` in ``[0, q_max]``. Lookups are bilinear in
-(z, s) (and linear in q for the lateral force), for N wheels at once with a handful of numpy
-operations. Outside the grid: ``z <= 0`` gives zero force; ``z > r/2`` extrapolates W linearly
-with the last cell's slope (so an overloaded wheel is still pushed up) and holds DP, T, Fy;
-s and q are clamped (the forces saturate there anyway).
+One :class:`SoilTable` per (soil, wheel). Uniform grids: sinkage ``z`` in ``[0, r]``, slip ``s``
+in ``[-1, 1]``, and ``p = C / (1 + C)`` in ``[0, 1]`` for the lateral ratio ``C = |v_y| /
+max(r omega, v_x)`` (so a wheel dragged sideways, C -> inf, is the last node). The combined shear
+couples all four outputs (W, DP, T, Fy) to C, so each is tabulated on the full 3-D grid and looked
+up trilinearly by a compiled kernel (:func:`lookup_one`, also used inside the MuJoCo coupling).
+Outside the grid: ``z <= 0`` gives zero force; ``z > r`` extrapolates W linearly with the last
+cell's slope (an overloaded wheel is still pushed up) and holds DP, T, Fy.
 
-Accuracy against :func:`terrabench.soil.terramechanics.wheel_forces` with the default grid
-(tests/soil/test_soil_table.py): |dW|, |dDP|, |dT/r|, |dFy| <= 1 % of the load at operating
-points (load 30-300 N).
+Accuracy against :func:`terrabench.soil.terramechanics.wheel_forces` with the default grid is
+checked in tests/soil/test_soil_table.py.
 """
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
-from terrabench.soil.terramechanics import SLIP_MAX, SLIP_MIN, SoilParams, WheelParams, max_sinkage, wheel_forces
+from terrabench.soil.terramechanics import _GL_W, _GL_X, SLIP_MAX, SLIP_MIN, SoilParams, WheelParams, _many, \
+    max_sinkage, pack
+
+
+@numba.njit(cache=True, inline="always")
+def lookup_one(z, s, C, tab, dwdz, tp):
+    """(W, DP, T, Fy) at one state. ``tp = [z_max, 1/dz, 1/ds, 1/dp]``; tab (nz, ns, np, 4)."""
+    nz, ns, npp = tab.shape[0], tab.shape[1], tab.shape[2]
+    if z <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    zc = min(z, tp[0])
+    fz = zc * tp[1]
+    i = min(int(fz), nz - 2)
+    tz = fz - i
+    sc = min(max(s, SLIP_MIN), SLIP_MAX)
+    fs = (sc - SLIP_MIN) * tp[2]
+    j = min(int(fs), ns - 2)
+    ts = fs - j
+    p = C / (1.0 + C) if C < 1e12 else 1.0
+    fp = p * tp[3]
+    k = min(int(fp), npp - 2)
+    tq = fp - k
+    out0 = 0.0
+    out1 = 0.0
+    out2 = 0.0
+    out3 = 0.0
+    for di in range(2):
+        wi = tz if di else 1.0 - tz
+        for dj in range(2):
+            wj = ts if dj else 1.0 - ts
+            for dk in range(2):
+                wk = tq if dk else 1.0 - tq
+                w = wi * wj * wk
+                row = tab[i + di, j + dj, k + dk]
+                out0 += w * row[0]
+                out1 += w * row[1]
+                out2 += w * row[2]
+                out3 += w * row[3]
+    if z > tp[0]:
+        slope = (1 - ts) * ((1 - tq) * dwdz[j, k] + tq * dwdz[j, k + 1]) + ts * ((1 - tq) * dwdz[j + 1, k] + tq * dwdz[j + 1, k + 1])
+        out0 += slope * (z - tp[0])
+    return out0, out1, out2, out3
+
+
+@numba.njit(cache=True)
+def _lookup_many(z, s, C, tab, dwdz, tp, out):
+    for n in range(z.shape[0]):
+        W, DP, T, Fy = lookup_one(z[n], s[n], C[n], tab, dwdz, tp)
+        out[n, 0] = W
+        out[n, 1] = DP
+        out[n, 2] = T
+        out[n, 3] = Fy
 
 
 class SoilTable:
@@ -24,73 +76,53 @@ class SoilTable:
 
     Args:
         soil, wheel: the pair.
-        nz: sinkage nodes on [0, r/2].  ns: slip nodes on [SLIP_MIN, 1].
-        nq: lateral-slip nodes on [0, q_max].  q_max: (-).
+        nz: sinkage nodes on [0, r] (>= 2).  ns: slip nodes on [-1, 1] (>= 2).
+        nq: nodes of p = C/(1 + C) on [0, 1] (>= 2).
 
     Attributes:
-        data: (nz, ns, 3 + nq) array: W (N), DP (N), T (N m), then Fy (N) at each q node.
+        data: (nz, ns, nq, 4) array: W (N), DP (N), T (N m), Fy (N).
     """
 
-    def __init__(self, soil: SoilParams, wheel: WheelParams, nz: int = 64, ns: int = 59,
-                 nq: int = 21, q_max: float = 1.0):
+    def __init__(self, soil: SoilParams, wheel: WheelParams, nz: int = 97, ns: int = 81, nq: int = 25):
+        for name, v in (("nz", nz), ("ns", ns), ("nq", nq)):
+            if int(v) < 2:
+                raise ValueError(f"{name}={v!r} is invalid; valid range: integer >= 2")
         self.soil, self.wheel = soil, wheel
-        self.nz, self.ns, self.nq = nz, ns, nq
+        self.nz, self.ns, self.nq = int(nz), int(ns), int(nq)
         self.z_max = max_sinkage(wheel)
         self.z = np.linspace(0.0, self.z_max, nz)
         self.s = np.linspace(SLIP_MIN, SLIP_MAX, ns)
-        self.q = np.linspace(0.0, q_max, nq)
-        self.dz, self.ds, self.dq = self.z[1], self.s[1] - self.s[0], self.q[1]
-        Z, S, Q = np.meshgrid(self.z, self.s, self.q, indexing="ij")
-        f = wheel_forces(Z, S, soil, wheel, q=Q)
-        data = np.empty((nz, ns, 3 + nq))
-        data[..., 0] = f["W"][..., 0]
-        data[..., 1] = f["DP"][..., 0]
-        data[..., 2] = f["T"][..., 0]
-        data[..., 3:] = f["Fy"]
-        self.data = data
-        self.dWdz_end = (data[-1, :, 0] - data[-2, :, 0]) / self.dz  # (ns,) extrapolation slope
-        self._flat = data.reshape(nz * ns, 3 + nq)
-        self._offsets = np.array([0, 1, ns, ns + 1])
-        self._arange = np.arange(64)
+        self.p = np.linspace(0.0, 1.0, nq)
+        with np.errstate(divide="ignore"):
+            self.q = np.where(self.p < 1, self.p / np.maximum(1 - self.p, 1e-300), np.inf)
+        Z, S, Q = np.meshgrid(self.z, self.s, np.minimum(self.q, 1e9), indexing="ij")
+        out = np.empty((Z.size, 4))
+        _many(Z.ravel(), S.ravel(), Q.ravel(), pack(soil, wheel), _GL_X, _GL_W, out)
+        self.data = np.ascontiguousarray(out.reshape(nz, ns, nq, 4))
+        dz = self.z[1]
+        self.dWdz_end = np.ascontiguousarray((self.data[-1, :, :, 0] - self.data[-2, :, :, 0]) / dz)
+        self.params = np.array([self.z_max, 1.0 / dz, 1.0 / (self.s[1] - self.s[0]), 1.0 / self.p[1]])
 
     def lookup(self, z, s, q=None):
         """Interpolated forces for N wheels.
 
         Args:
-            z: sinkage (m), shape (N,).  s: slip (-), (N,).  q: |v_y/(r omega)| (-), (N,) or None.
+            z: sinkage (m), (N,).  s: slip (-), (N,).  q: lateral ratio C (-), (N,) or None (= 0).
 
         Returns:
-            W, DP, T, Fy: arrays (N,) (Fy is zeros when q is None).
+            W, DP, T, Fy: arrays (N,).
         """
-        z = np.asarray(z, float)
-        fz = np.clip(z, 0.0, self.z_max) * (1.0 / self.dz)
-        i = np.minimum(fz.astype(np.intp), self.nz - 2)
-        tz = fz - i
-        fs = (np.clip(s, SLIP_MIN, SLIP_MAX) - SLIP_MIN) * (1.0 / self.ds)
-        j = np.minimum(fs.astype(np.intp), self.ns - 2)
-        ts = fs - j
-        # one gather of the 4 corner rows: (N, 4, 3 + nq)
-        corners = self._flat[(i * self.ns + j)[:, None] + self._offsets]
-        wts = np.stack(((1 - tz) * (1 - ts), (1 - tz) * ts, tz * (1 - ts), tz * ts), axis=1)
-        row = np.einsum("nk,nkc->nc", wts, corners)
-        on = z > 0
-        over = np.maximum(z - self.z_max, 0.0)
-        slope = (1 - ts) * self.dWdz_end[j] + ts * self.dWdz_end[j + 1]
-        row[~on] = 0.0
-        W = row[:, 0] + np.where(on, slope * over, 0.0)
-        if q is None:
-            return W, row[:, 1], row[:, 2], np.zeros_like(W)
-        fq = np.minimum(np.abs(q), self.q[-1]) * (1.0 / self.dq)
-        k = np.minimum(fq.astype(np.intp), self.nq - 2)
-        tq = fq - k
-        n = self._arange[: len(z)] if len(z) <= len(self._arange) else np.arange(len(z))
-        Fy = (1 - tq) * row[n, 3 + k] + tq * row[n, 4 + k]
-        return W, row[:, 1], row[:, 2], Fy
+        z = np.ascontiguousarray(np.atleast_1d(np.asarray(z, float)))
+        s = np.ascontiguousarray(np.broadcast_to(np.asarray(s, float), z.shape))
+        C = np.zeros_like(z) if q is None else np.ascontiguousarray(np.abs(np.broadcast_to(np.asarray(q, float), z.shape)))
+        out = np.empty((z.size, 4))
+        _lookup_many(z, s, C, self.data, self.dWdz_end, self.params, out)
+        return out[:, 0], out[:, 1], out[:, 2], out[:, 3]
 
     def static_sinkage(self, load: float) -> float:
-        """Sinkage (m) where the table's W(z, s=0) equals ``load`` (N)."""
+        """Sinkage (m) where the table's W(z, s=0, C=0) equals ``load`` (N)."""
         j = int(np.argmin(np.abs(self.s)))
-        w = self.data[:, j, 0]
+        w = self.data[:, j, 0, 0]
         if load > w[-1]:
-            return float(self.z_max + (load - w[-1]) / self.dWdz_end[j])
+            return float(self.z_max + (load - w[-1]) / self.dWdz_end[j, 0])
         return float(np.interp(load, w, self.z))

@@ -1,39 +1,44 @@
-"""Rigid wheel on deformable soil: Bekker pressure-sinkage, Wong-Reece stress distribution,
-Janosi-Hanamoto shear, Ishigami-style lateral shear (docs/soil.md has the equations).
+"""Rigid wheel on deformable soil: Bekker or Reece pressure-sinkage with a slip-dependent
+sinkage exponent, Wong-Reece stress distribution with an exit angle, Janosi-Hanamoto shear from
+the combined (longitudinal + lateral) shear displacement capped by Mohr-Coulomb, and sidewall
+bulldozing (docs/soil.md has the equations and docs/assumptions-soil.md the sources).
 
 Conventions (all SI):
 
 - Contact angle ``theta`` is measured at the axle from the downward vertical, positive towards
   the direction of travel. The wheel touches soil on ``[theta_r, theta_1]`` with entry angle
-  ``theta_1 = arccos(1 - z/r)`` and exit (rear) angle ``theta_r = -c_exit * theta_1``.
-- Slip ``s`` (dimensionless), documented range ``(-1, 1]``:
-  driving (``v <= r*omega``): ``s = 1 - v/(r*omega)`` in ``[0, 1]`` (1 = spinning in place);
-  skid (``v > r*omega``): ``s = r*omega/v - 1`` in ``(-1, 0)`` (-1 = locked wheel, excluded).
-  Internally everything uses the velocity ratio ``kappa = v/(r*omega)``: ``1 - s`` when
-  driving, ``1/(1 + s)`` when skidding, so the shear displacement is
-  ``j(theta) = r[(theta_1 - theta) - kappa (sin theta_1 - sin theta)]`` (Wong-Reece's
-  ``(1 - s)`` form for ``s >= 0``).
-- Lateral: the slip angle enters through the lateral slip ratio ``q = v_y/(r*omega)`` (=
-  ``kappa * tan(beta)``); lateral displacement ``j_y = q r (theta_1 - theta)`` (Ishigami et al.
-  2007, eq. for j_y with ``(1 - s) tan beta`` generalised to skid through kappa).
-- Outputs per wheel: ``W`` normal (vertical) load the soil carries (N), ``DP`` drawbar pull
-  along travel (N; negative = rolling resistance), ``T`` torque the soil exerts against the
-  wheel's rotation (N m; the driving torque needed in steady state), ``Fy`` lateral force
-  magnitude (N; it opposes the lateral velocity). W and DP act at the axle; T about it.
+  ``theta_1 = arccos(1 - z/r)`` (sinkage z up to r) and exit angle
+  ``theta_r = -(c_exit + c_exit1 s) theta_1``.
+- Slip ``s`` in ``[-1, 1]``: driving (``v_x <= r omega``) ``s = 1 - v_x/(r omega)`` (1 =
+  spinning in place); skid (``v_x > r omega``) ``s = r omega / v_x - 1`` (-1 = locked wheel).
+- Time base: a soil element's contact time is measured with the faster of rim and hub,
+  ``u = max(r omega, v_x)``. With ``A = r omega / u`` and ``B = v_x / u`` (A = 1, B = 1 - s
+  driving; A = 1 + s, B = 1 in skid) the shear displacements are
+  ``j_x = r [A (theta_1 - theta) - B (sin theta_1 - sin theta)]`` (Wong & Reece 1967 for driving;
+  their towed/braked form for skid, finite for the locked wheel) and
+  ``j_y = C r (theta_1 - theta)`` with the lateral ratio ``C = |v_y| / u`` (Ishigami et al.
+  2007: ``(1 - s) tan(beta)`` when driving).
+- Outputs per wheel: ``W`` vertical load the soil carries (N), ``DP`` drawbar pull along the
+  heading (N; negative = resistance), ``T`` torque the soil exerts against the wheel's rotation
+  (N m), ``Fy`` lateral force magnitude (N, opposing v_y; shear + bulldozing).
 
-Functions are pure and vectorised: inputs broadcast against each other.
+The integral is one compiled kernel (numba, cached on disk) used by everything: the direct
+functions here, the look-up tables and the validation.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 N_NODES = 24  # Gauss-Legendre nodes per sub-interval ([theta_r, theta_m] and [theta_m, theta_1])
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(N_NODES)
-SLIP_MIN = -0.95  # most negative slip the table and the coupling use (kappa = 20)
+SLIP_MIN = -1.0  # locked wheel: finite with the braked-wheel displacement, no clip needed
 SLIP_MAX = 1.0
+FORMS = ("bekker", "reece")
 
 
 def _check(name: str, value: float, ok: bool, valid: str) -> None:
@@ -43,49 +48,77 @@ def _check(name: str, value: float, ok: bool, valid: str) -> None:
 
 @dataclass(frozen=True)
 class SoilParams:
-    """Bekker / Wong-Reece / Janosi-Hanamoto soil parameters.
+    """Soil parameters (Bekker or Reece pressure-sinkage, Wong-Reece, Janosi-Hanamoto).
 
     Attributes:
         name: label used in reports.
-        n: sinkage exponent (-), in (0, 3) (Bekker's closed form needs n < 3).
-        k_c: cohesive modulus of deformation (N/m^(n+1)), >= 0.
-        k_phi: frictional modulus of deformation (N/m^(n+2)), > 0.
+        form: "bekker": ``sigma = (k_c/b + k_phi) z^n`` (k_c in N/m^(n+1), k_phi in N/m^(n+2));
+            "reece": ``sigma = (c k_c + gamma b k_phi) (z/b)^n`` (k_c, k_phi dimensionless, Reece 1965).
+        n: sinkage exponent at zero slip (-), in (0, 3).
+        n1: slip-sinkage coefficient when driving, ``n(s) = n + n1 s`` for s >= 0 (Ding et al.
+            2011), in [-1, 2]; ``n + n1 > 0``.
+        n2: the same in skid, ``n(s) = n + n2 |s|`` for s < 0 (robomechanics 3d-terramechanics),
+            in [-1, 2]; ``n + n2 > 0``.
+        k_c: cohesive modulus (Bekker N/m^(n+1), Reece -), >= 0.
+        k_phi: frictional modulus (Bekker N/m^(n+2), Reece -), > 0.
         c: cohesion (Pa), >= 0.
         phi_deg: internal friction angle (deg), in (0, 90).
+        gamma: soil specific weight (N/m^3), > 0 (Reece form and bulldozing).
         K: longitudinal shear deformation modulus (m), > 0.
         K_y: lateral shear deformation modulus (m), > 0; None = same as K.
-        a0: theta_m = (a0 + a1*s) theta_1, constant part (-), in [0, 1).
-        a1: slip part of the same (-), >= 0 with a0 + a1 <= 1 (theta_m is clipped at 0 in skid).
-        c_exit: rear (exit) angle ratio, theta_r = -c_exit * theta_1 (-), in [0, 1]; 0 = the
-            classical Wong-Reece no-rebound assumption.
+        a0: ``theta_m = (a0 + a1 s) theta_1``, constant part (-), in [0, 1).
+        a1: slip part when driving (-), in [-1, 1]; ``0 <= a0 + a1 <= 1``.
+        a1_skid: slip part in skid, ``theta_m = (a0 + a1_skid s) theta_1`` for s < 0 (-), in
+            [-1, 1]; None = a1. theta_m is clipped to [theta_r, theta_1].
+        c_exit: exit angle ratio at zero slip, ``theta_r = -(c_exit + c_exit1 s) theta_1`` (-),
+            in [0, 1]; 0 = the classical no-rebound assumption.
+        c_exit1: slip part of the exit ratio (-), in [-1, 1]; the ratio is clipped to [0, 1].
+        bulldoze: factor on the sidewall bulldozing force (Ishigami 2007 with Hegedus' passive
+            pressure), in [0, 10]; 0 = off.
         source: citation / provenance string.
     """
 
     name: str = "soil"
-    n: float = 1.0
-    k_c: float = 1.4e3
-    k_phi: float = 700e3
-    c: float = 500.0
-    phi_deg: float = 30.0
-    K: float = 0.015
-    K_y: float | None = None
-    a0: float = 0.4
-    a1: float = 0.15
-    c_exit: float = 0.0
+    n: float = 1.0  # range: (0, 3)
+    k_c: float = 1.4e3  # range: >= 0
+    k_phi: float = 700e3  # range: > 0
+    c: float = 500.0  # range: >= 0 Pa
+    phi_deg: float = 30.0  # range: (0, 90) deg
+    K: float = 0.015  # range: > 0 m
+    K_y: float | None = None  # range: > 0 m or None
+    a0: float = 0.4  # range: [0, 1)
+    a1: float = 0.15  # range: [-1, 1], 0 <= a0 + a1 <= 1
+    c_exit: float = 0.0  # range: [0, 1]
     source: str = ""
+    form: str = "bekker"  # choices: bekker, reece
+    n1: float = 0.0  # range: [-1, 2]
+    n2: float = 0.0  # range: [-1, 2]
+    gamma: float = 15.0e3  # range: > 0 N/m^3
+    a1_skid: float | None = None  # range: [-1, 1] or None
+    c_exit1: float = 0.0  # range: [-1, 1]
+    bulldoze: float = 1.0  # range: [0, 10]
 
     def __post_init__(self) -> None:
+        if self.form not in FORMS:
+            raise ValueError(f"form={self.form!r} is invalid; valid choices: {', '.join(FORMS)}")
         _check("n", self.n, 0 < self.n < 3, "0 < n < 3")
-        _check("k_c", self.k_c, self.k_c >= 0, "k_c >= 0 N/m^(n+1)")
-        _check("k_phi", self.k_phi, self.k_phi > 0, "k_phi > 0 N/m^(n+2)")
+        _check("n1", self.n1, -1 <= self.n1 <= 2 and self.n + self.n1 > 0, "-1 <= n1 <= 2 and n + n1 > 0")
+        _check("n2", self.n2, -1 <= self.n2 <= 2 and self.n + self.n2 > 0, "-1 <= n2 <= 2 and n + n2 > 0")
+        _check("k_c", self.k_c, self.k_c >= 0, "k_c >= 0")
+        _check("k_phi", self.k_phi, self.k_phi > 0, "k_phi > 0")
         _check("c", self.c, self.c >= 0, "c >= 0 Pa")
         _check("phi_deg", self.phi_deg, 0 < self.phi_deg < 90, "0 < phi_deg < 90 deg")
+        _check("gamma", self.gamma, self.gamma > 0, "gamma > 0 N/m^3")
         _check("K", self.K, self.K > 0, "K > 0 m")
         if self.K_y is not None:
             _check("K_y", self.K_y, self.K_y > 0, "K_y > 0 m")
         _check("a0", self.a0, 0 <= self.a0 < 1, "0 <= a0 < 1")
-        _check("a1", self.a1, self.a1 >= 0 and self.a0 + self.a1 <= 1, "a1 >= 0 and a0 + a1 <= 1")
+        _check("a1", self.a1, -1 <= self.a1 <= 1 and 0 <= self.a0 + self.a1 <= 1, "-1 <= a1 <= 1 and 0 <= a0 + a1 <= 1")
+        if self.a1_skid is not None:
+            _check("a1_skid", self.a1_skid, -1 <= self.a1_skid <= 1, "-1 <= a1_skid <= 1")
         _check("c_exit", self.c_exit, 0 <= self.c_exit <= 1, "0 <= c_exit <= 1")
+        _check("c_exit1", self.c_exit1, -1 <= self.c_exit1 <= 1, "-1 <= c_exit1 <= 1")
+        _check("bulldoze", self.bulldoze, 0 <= self.bulldoze <= 10, "0 <= bulldoze <= 10")
 
     @property
     def tan_phi(self) -> float:
@@ -94,6 +127,41 @@ class SoilParams:
     @property
     def Ky(self) -> float:
         return self.K if self.K_y is None else self.K_y
+
+    def exponent(self, s):
+        """Sinkage exponent n(s) at slip s (-)."""
+        s = np.asarray(s, float)
+        return np.where(s >= 0, self.n + self.n1 * s, self.n - self.n2 * s)
+
+    def modulus(self, width: float) -> tuple[float, float]:
+        """(k, L) with ``sigma = k (z/L)^n`` for a wheel of this width (Pa, m)."""
+        if self.form == "bekker":
+            return self.k_c / width + self.k_phi, 1.0
+        return self.c * self.k_c + self.gamma * width * self.k_phi, width
+
+    def to_reece(self, width: float) -> "SoilParams":
+        """The Reece-form soil with the same pressure at slip 0 for this width (exact at n(0)).
+
+        ``k_c' = k_c b^(n-1) / c`` (needs c > 0), ``k_phi' = k_phi b^(n-1) / gamma``."""
+        if self.form == "reece":
+            return self
+        if self.c <= 0 and self.k_c > 0:
+            raise ValueError(f"c={self.c!r} is invalid for the Reece form with k_c={self.k_c}; valid range: c > 0 Pa")
+        f = width ** (self.n - 1)
+        from dataclasses import replace
+
+        return replace(self, form="reece", k_c=self.k_c * f / self.c if self.c > 0 else 0.0,
+                       k_phi=self.k_phi * f / self.gamma)
+
+    def to_bekker(self, width: float) -> "SoilParams":
+        """The Bekker-form soil with the same pressure at slip 0 for this width:
+        ``k_c = c k_c' b^(1-n)``, ``k_phi = gamma k_phi' b^(1-n)``."""
+        if self.form == "bekker":
+            return self
+        from dataclasses import replace
+
+        f = width ** (1 - self.n)
+        return replace(self, form="bekker", k_c=self.c * self.k_c * f, k_phi=self.gamma * self.k_phi * f)
 
 
 @dataclass(frozen=True)
@@ -106,9 +174,9 @@ class WheelParams:
         mass: (kg), > 0; used by the MuJoCo testbed.
     """
 
-    radius: float = 0.15
-    width: float = 0.12
-    mass: float = 2.0
+    radius: float = 0.15  # range: > 0 m
+    width: float = 0.12  # range: > 0 m
+    mass: float = 2.0  # range: > 0 kg
 
     def __post_init__(self) -> None:
         _check("radius", self.radius, self.radius > 0, "radius > 0 m")
@@ -116,19 +184,148 @@ class WheelParams:
         _check("mass", self.mass, self.mass > 0, "mass > 0 kg")
 
 
+# ---------------------------------------------------------------------------------------------
+# the compiled kernel
+
+_P_LEN = 20
+
+
+def pack(soil: SoilParams, wheel: WheelParams) -> np.ndarray:
+    """The soil-wheel pair as the float array the kernel reads."""
+    k, L = soil.modulus(wheel.width)
+    phi = math.radians(soil.phi_deg)
+    xc = math.pi / 4 - phi / 2  # Hegedus' failure-plane angle
+    d1 = 1 / math.tan(xc) + math.tan(xc + phi)
+    d2 = 1 / math.tan(xc) + (1 / math.tan(xc)) ** 2 / (1 / math.tan(phi))
+    a1s = soil.a1 if soil.a1_skid is None else soil.a1_skid
+    return np.array([wheel.radius, wheel.width, k, L, soil.n, soil.n1, soil.n2, soil.c, soil.tan_phi,
+                     soil.K, soil.Ky, soil.a0, soil.a1, a1s, soil.c_exit, soil.c_exit1, soil.gamma,
+                     soil.bulldoze * d1, d2, 0.0])
+
+
+@numba.njit(cache=True, fastmath=False)
+def _angles(z, s, P):
+    r = P[0]
+    cz = 1.0 - z / r
+    if cz < 0.0:
+        cz = 0.0
+    elif cz > 1.0:
+        cz = 1.0
+    th1 = math.acos(cz)
+    cr = P[14] + P[15] * s
+    cr = min(max(cr, 0.0), 1.0)
+    thr = -cr * th1
+    am = P[11] + (P[12] if s >= 0 else P[13]) * s
+    thm = am * th1
+    thm = min(max(thm, thr), th1)
+    return th1, thm, thr
+
+
+@numba.njit(cache=True, fastmath=False)
+def _point(z, s, C, P, gx, gw):
+    """W, DP, T, Fy of one wheel state (z m, s -, C -)."""
+    r, b, k, L = P[0], P[1], P[2], P[3]
+    if z <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    n = P[4] + P[5] * s if s >= 0 else P[4] - P[6] * s
+    c, tphi, K, Ky, gam, bd1, d2 = P[7], P[8], P[9], P[10], P[16], P[17], P[18]
+    th1, thm, thr = _angles(z, s, P)
+    A = 1.0 if s >= 0 else 1.0 + s
+    B = 1.0 - s if s >= 0 else 1.0
+    c1, s1 = math.cos(th1), math.sin(th1)
+    W = 0.0
+    DP = 0.0
+    T = 0.0
+    Fy = 0.0
+    Fb = 0.0
+    ng = gx.shape[0]
+    for panel in range(2):
+        lo, hi = (thr, thm) if panel == 0 else (thm, th1)
+        h = 0.5 * (hi - lo)
+        m = 0.5 * (hi + lo)
+        if h <= 0.0:
+            continue
+        for i in range(ng):
+            th = m + h * gx[i]
+            w = h * gw[i]
+            if panel == 0 and thm - thr > 1e-12:
+                teq = th1 - (th - thr) / (thm - thr) * (th1 - thm)
+            else:
+                teq = th
+            ct, st = math.cos(th), math.sin(th)
+            depth = r * (math.cos(teq) - c1)
+            sig = k * (depth / L) ** n if depth > 0.0 else 0.0
+            tmax = c + sig * tphi
+            jx = r * (A * (th1 - th) - B * (s1 - st))
+            jy = C * r * (th1 - th)
+            jm = math.sqrt(jx * jx + jy * jy)
+            tx = 0.0
+            ty = 0.0
+            if jm > 0.0:
+                jn = math.sqrt((jx / K) ** 2 + (jy / Ky) ** 2)
+                tau = tmax * (1.0 - math.exp(-jn))
+                tx = tau * jx / jm
+                ty = tau * jy / jm
+            W += w * (sig * ct + tx * st)
+            DP += w * (tx * ct - sig * st)
+            T += w * tx
+            Fy += w * ty
+            if bd1 > 0.0:
+                hg = r * (ct - c1)  # geometric depth of the rim below the surface at theta
+                if hg > 0.0:
+                    Fb += w * bd1 * (c * hg + 0.5 * d2 * gam * hg * hg) * r * ct
+    Fy = r * b * Fy
+    if bd1 > 0.0 and C > 0.0:
+        Fy += Fb * (1.0 - math.exp(-C * r * (th1 - thr) / Ky))
+    DP = r * b * DP
+    if bd1 > 0.0 and s < 0.0:
+        # a braked wheel ploughs: passive pressure on the front face over the rut depth z,
+        # mobilised by the part of the travel the rim does not carry under the wheel (-s)
+        DP -= -s * b * bd1 * (c * z + 0.5 * d2 * gam * z * z)
+    return r * b * W, DP, r * r * b * T, Fy
+
+
+@numba.njit(cache=True)
+def _many(z, s, C, P, gx, gw, out):
+    for i in range(z.shape[0]):
+        W, DP, T, Fy = _point(z[i], s[i], C[i], P, gx, gw)
+        out[i, 0] = W
+        out[i, 1] = DP
+        out[i, 2] = T
+        out[i, 3] = Fy
+
+
+@numba.njit(cache=True)
+def _sinkage(load, s, C, P, gx, gw, zmax, iters, out):
+    for i in range(load.shape[0]):
+        lo, hi = 0.0, zmax
+        for _ in range(iters):
+            mid = 0.5 * (lo + hi)
+            if _point(mid, s[i], C[i], P, gx, gw)[0] > load[i]:
+                hi = mid
+            else:
+                lo = mid
+        out[i] = 0.5 * (lo + hi)
+
+
+# ---------------------------------------------------------------------------------------------
+# the public, vectorised functions
+
+
 def kappa_from_slip(s):
-    """Velocity ratio v/(r*omega) from slip (see module docstring). s in (-1, 1]."""
+    """Velocity ratio v/(r*omega) from slip (see module docstring), s in [-1, 1] (inf locked)."""
     s = np.asarray(s, dtype=float)
-    if np.any(s > 1) or np.any(s <= -1) or not np.all(np.isfinite(s)):
-        raise ValueError(f"slip={s!r} is invalid; valid range: -1 < s <= 1")
-    return np.where(s >= 0, 1.0 - s, 1.0 / (1.0 + np.minimum(s, 0.0)))
+    if np.any(s > 1) or np.any(s < -1) or not np.all(np.isfinite(s)):
+        raise ValueError(f"slip={s!r} is invalid; valid range: -1 <= s <= 1")
+    with np.errstate(divide="ignore"):
+        return np.where(s >= 0, 1.0 - s, 1.0 / (1.0 + np.minimum(s, 0.0)))
 
 
 def slip_from_speeds(v, r_omega, v_eps: float = 1e-3):
     """Slip from hub speed v and rim speed r*omega (both m/s, same sign convention).
 
     ``s = (r omega - v) / max(|r omega|, |v|, v_eps)``: equals ``1 - v/(r omega)`` when driving
-    and ``r omega/v - 1`` when skidding; clipped to [SLIP_MIN, 1].
+    and ``r omega/v - 1`` when skidding; clipped to [-1, 1].
     """
     v = np.asarray(v, dtype=float)
     rw = np.asarray(r_omega, dtype=float)
@@ -136,25 +333,20 @@ def slip_from_speeds(v, r_omega, v_eps: float = 1e-3):
     return np.clip((rw - v) / den, SLIP_MIN, SLIP_MAX)
 
 
+def lateral_ratio(s, tan_beta):
+    """C = |v_y| / max(r omega, v_x) for slip s and slip angle tan(beta) = v_y / v_x (-)."""
+    s = np.asarray(s, float)
+    return np.abs(np.asarray(tan_beta, float)) * np.where(s >= 0, 1.0 - s, 1.0)
+
+
 def entry_angle(z, radius: float):
     """theta_1 = arccos(1 - z/r) (rad) for sinkage z (m), clipped to [0, pi/2]."""
     return np.arccos(np.clip(1.0 - np.asarray(z, dtype=float) / radius, 0.0, 1.0))
 
 
-def _stresses(theta, th1, thm, thr, s_kappa, q, soil: SoilParams, wheel: WheelParams):
-    """Normal, longitudinal shear and lateral shear stress (Pa) at angles theta (..., N)."""
-    r, b = wheel.radius, wheel.width
-    k = (soil.k_c / b + soil.k_phi) * r**soil.n
-    front = theta >= thm
-    denom = np.where(thm - thr > 1e-12, thm - thr, 1.0)
-    th_eq = np.where(front, theta, th1 - (theta - thr) / denom * (th1 - thm))
-    sigma = k * np.maximum(np.cos(th_eq) - np.cos(th1), 0.0) ** soil.n
-    j = r * ((th1 - theta) - s_kappa * (np.sin(th1) - np.sin(theta)))
-    tau_max = soil.c + sigma * soil.tan_phi
-    tau = np.sign(j) * tau_max * (1.0 - np.exp(-np.abs(j) / soil.K))
-    jy = q * r * (th1 - theta)
-    tau_y = tau_max * (1.0 - np.exp(-np.abs(jy) / soil.Ky))
-    return sigma, tau, tau_y
+def _check_slip(s: np.ndarray) -> None:
+    if np.any(s > 1) or np.any(s < -1) or not np.all(np.isfinite(s)):
+        raise ValueError(f"slip={s!r} is invalid; valid range: -1 <= s <= 1")
 
 
 def wheel_forces(z, s, soil: SoilParams, wheel: WheelParams, q=0.0):
@@ -162,90 +354,81 @@ def wheel_forces(z, s, soil: SoilParams, wheel: WheelParams, q=0.0):
 
     Args:
         z: sinkage (m), >= 0, array-like.
-        s: slip (-), in (-1, 1], broadcast with z.
-        q: lateral slip ratio v_y/(r omega) (-), >= 0 (magnitude), broadcast.
+        s: slip (-), in [-1, 1], broadcast with z.
+        q: lateral ratio C = |v_y| / max(r omega, v_x) (-), >= 0 (inf: pure sideways drag).
 
     Returns:
         dict of arrays (broadcast shape): W (N), DP (N), T (N m), Fy (N, magnitude),
         theta1, theta_m, theta_r (rad).
     """
     z, s, q = np.broadcast_arrays(np.asarray(z, float), np.asarray(s, float), np.abs(np.asarray(q, float)))
-    kap = kappa_from_slip(s)
+    _check_slip(s)
+    P = pack(soil, wheel)
+    out = np.empty((z.size, 4))
+    zf, sf = np.ascontiguousarray(z.ravel()), np.ascontiguousarray(s.ravel())
+    _many(zf, sf, np.ascontiguousarray(np.minimum(q.ravel(), 1e9)), P, _GL_X, _GL_W, out)
     th1 = entry_angle(z, wheel.radius)
-    thm = np.clip(soil.a0 + soil.a1 * s, 0.0, 1.0) * th1
-    thr = -soil.c_exit * th1
-    ex = (Ellipsis, None)
-    # two Gauss-Legendre panels: [thr, thm] and [thm, th1] (kink of sigma at thm)
-    h1, m1 = (thm - thr) / 2, (thm + thr) / 2
-    h2, m2 = (th1 - thm) / 2, (th1 + thm) / 2
-    theta = np.concatenate([m1[ex] + h1[ex] * _GL_X, m2[ex] + h2[ex] * _GL_X], axis=-1)
-    wts = np.concatenate([h1[ex] * _GL_W, h2[ex] * _GL_W], axis=-1)
-    sig, tau, tau_y = _stresses(theta, th1[ex], thm[ex], thr[ex], kap[ex], q[ex], soil, wheel)
-    r, b = wheel.radius, wheel.width
-    ct, st = np.cos(theta), np.sin(theta)
-    W = r * b * np.sum(wts * (sig * ct + tau * st), axis=-1)
-    DP = r * b * np.sum(wts * (tau * ct - sig * st), axis=-1)
-    T = r * r * b * np.sum(wts * tau, axis=-1)
-    Fy = r * b * np.sum(wts * tau_y, axis=-1)
-    return {"W": W, "DP": DP, "T": T, "Fy": Fy, "theta1": th1, "theta_m": thm, "theta_r": thr}
+    cr = np.clip(soil.c_exit + soil.c_exit1 * s, 0.0, 1.0)
+    thr = -cr * th1
+    a1s = soil.a1 if soil.a1_skid is None else soil.a1_skid
+    thm = np.clip((soil.a0 + np.where(s >= 0, soil.a1, a1s) * s) * th1, thr, th1)
+    sh = z.shape
+    return {"W": out[:, 0].reshape(sh), "DP": out[:, 1].reshape(sh), "T": out[:, 2].reshape(sh),
+            "Fy": out[:, 3].reshape(sh), "theta1": th1, "theta_m": thm, "theta_r": thr}
 
 
 def max_sinkage(wheel: WheelParams) -> float:
-    """Largest sinkage the model accepts: half the radius (theta_1 = 60 deg) (m)."""
-    return 0.5 * wheel.radius
+    """Largest sinkage the model accepts: the wheel radius (theta_1 = 90 deg) (m)."""
+    return wheel.radius
 
 
-def solve_sinkage(load, s, soil: SoilParams, wheel: WheelParams, iters: int = 60):
-    """Sinkage z (m) with W(z, s) = load, by vectorised bisection on [0, max_sinkage].
+def solve_sinkage(load, s, soil: SoilParams, wheel: WheelParams, q=0.0, iters: int = 50):
+    """Sinkage z (m) with W(z, s, q) = load, by bisection on [0, r] (compiled).
 
     Args:
         load: vertical wheel load (N), > 0, array-like.
-        s: slip, broadcast with load.
+        s: slip, broadcast with load.  q: lateral ratio (see :func:`wheel_forces`).
 
     Raises:
-        ValueError: a load is not positive, or exceeds W at max_sinkage (the wheel would sink
-            beyond r/2, outside the model's validity).
+        ValueError: a load is not positive, or exceeds W at z = r (the wheel would sink past
+            its axle, outside the model).
     """
-    load, s = np.broadcast_arrays(np.asarray(load, float), np.asarray(s, float))
+    load, s, q = np.broadcast_arrays(np.asarray(load, float), np.asarray(s, float), np.abs(np.asarray(q, float)))
     if np.any(~(load > 0)):
         raise ValueError(f"load={load!r} is invalid; valid range: load > 0 N")
+    _check_slip(s)
     zmax = max_sinkage(wheel)
-    wmax = wheel_forces(np.full(load.shape, zmax), s, soil, wheel)["W"]
+    wmax = wheel_forces(np.full(load.shape, zmax), s, soil, wheel, q)["W"]
     if np.any(load > wmax):
-        raise ValueError(f"load={load!r} sinks the wheel beyond {zmax} m (r/2) on {soil.name}; "
+        raise ValueError(f"load={load!r} sinks the wheel beyond its radius {zmax} m on {soil.name}; "
                          f"valid range: load <= {np.min(wmax):.4g} N")
-    lo, hi = np.zeros(load.shape), np.full(load.shape, zmax)
-    for _ in range(iters):
-        mid = 0.5 * (lo + hi)
-        big = wheel_forces(mid, s, soil, wheel)["W"] > load
-        hi = np.where(big, mid, hi)
-        lo = np.where(big, lo, mid)
-    return 0.5 * (lo + hi)
+    P = pack(soil, wheel)
+    out = np.empty(load.size)
+    _sinkage(np.ascontiguousarray(load.ravel()), np.ascontiguousarray(s.ravel()),
+             np.ascontiguousarray(np.minimum(q.ravel(), 1e9)), P, _GL_X, _GL_W, zmax, iters, out)
+    return out.reshape(load.shape)
 
 
 def bekker_sinkage(load, soil: SoilParams, wheel: WheelParams):
     """Bekker's closed-form rigid-wheel sinkage (m) for small sinkage (Wong, Theory of Ground
-    Vehicles, ch. 6): z0 = (3W / ((3-n)(k_c + b k_phi) sqrt(D)))^(2/(2n+1)), D = 2r.
-
-    Note the factor b: ``(k_c + b k_phi) = b (k_c/b + k_phi)``. Writing ``(k_c/b + k_phi)``
-    without the b (as issue 12 does) is dimensionally wrong and sinks ``b^(-2/(2n+1))`` times
-    deeper (4.1x for b = 0.12 m, n = 1).
-    """
-    n, b, D = soil.n, wheel.width, 2 * wheel.radius
-    k = soil.k_c + b * soil.k_phi
+    Vehicles, ch. 6): z0 = (3W / ((3-n)(k_c + b k_phi) sqrt(D)))^(2/(2n+1)), D = 2r
+    (Bekker form at slip 0; a Reece soil is converted first)."""
+    sp = soil.to_bekker(wheel.width)
+    n, b, D = sp.n, wheel.width, 2 * wheel.radius
+    k = sp.k_c + b * sp.k_phi
     return (3 * np.asarray(load, float) / ((3 - n) * k * np.sqrt(D))) ** (2 / (2 * n + 1))
 
 
-def steady_state(load, s, soil: SoilParams, wheel: WheelParams, omega: float = 1.0):
+def steady_state(load, s, soil: SoilParams, wheel: WheelParams, omega: float = 1.0, q=0.0):
     """Analytic steady state of a wheel carrying ``load`` at slip ``s`` and spin ``omega``.
 
     Returns a dict of arrays: sinkage_m, DP_N, torque_Nm, DP_coeff (DP/W), efficiency
-    ((DP v)/(T omega), v = kappa r omega; nan where T <= 0), v_mps.
+    ((DP v)/(T omega), v = kappa r omega; nan where T <= 0), v_mps, Fy_N, W_N.
     """
-    z = solve_sinkage(load, s, soil, wheel)
-    f = wheel_forces(z, s, soil, wheel)
-    v = kappa_from_slip(np.broadcast_to(s, z.shape)) * wheel.radius * omega
+    z = solve_sinkage(load, s, soil, wheel, q)
+    f = wheel_forces(z, s, soil, wheel, q)
     with np.errstate(divide="ignore", invalid="ignore"):
+        v = kappa_from_slip(np.broadcast_to(s, z.shape)) * wheel.radius * omega
         eff = np.where(f["T"] > 0, f["DP"] * v / (f["T"] * omega), np.nan)
     return {"sinkage_m": z, "DP_N": f["DP"], "torque_Nm": f["T"], "DP_coeff": f["DP"] / np.asarray(load, float),
-            "efficiency": eff, "v_mps": v, "W_N": f["W"]}
+            "efficiency": eff, "v_mps": v, "W_N": f["W"], "Fy_N": f["Fy"]}

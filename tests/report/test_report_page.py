@@ -93,3 +93,16 @@ def test_timeline_segments_cover_the_trial():
     assert segments([], 2.0, start="idle") == [("idle", 0.0, 2.0)]
     with pytest.raises(ValueError, match="time order"):
         segments([[2.0, "a", "b"], [1.0, "b", "a"]], 3.0)
+
+
+def test_settings_groups_split_by_settings_not_by_method_or_instance():
+    from terrabench.report.variants import settings_groups
+
+    def defaults(method, instance):
+        return {"k": {"a": 1, "b": 2}[instance], "speed": 1.0, "reading": "edge"}
+
+    rows = [_row("m", "a", {"k": 1, "speed": 1.0, "reading": "edge"}, "h1"),
+            _row("n", "b", {"k": 2, "speed": 1.0, "reading": "centre"}, "h2"),
+            _row("m", "b", {"k": 2, "speed": 3.0, "reading": "edge"}, "h3")]
+    gs = settings_groups(rows, defaults, ignore=("reading",))
+    assert [(g.label, g.slug == "", len(g.rows)) for g in gs] == [("defaults", True, 2), ("speed=3.0", False, 1)]

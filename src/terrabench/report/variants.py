@@ -172,3 +172,49 @@ def tag_rows(rows: Sequence[dict[str, Any]], variants: Sequence[Variant]) -> lis
         if v is not None:
             out.append({**r, "variant": v.id, "label": v.label})
     return out
+
+
+@dataclass(frozen=True)
+class SettingsGroup:
+    """Rows of every method run under one set of settings (a report section per group).
+
+    Attributes:
+        label: ``"defaults"`` or the settings, e.g. ``"arm.press_force=40"``.
+        diff: dotted key -> value where these rows differ from the planned defaults.
+        slug: ``""`` for the defaults, else a short file-name suffix (``"_v1a2b3c4d"``).
+        rows: the rows.
+    """
+
+    label: str
+    diff: Mapping[str, Any]
+    slug: str
+    rows: tuple[dict[str, Any], ...]
+
+
+def settings_groups(rows: Sequence[dict[str, Any]], default_config: Callable[[str, str], Mapping[str, Any] | None],
+                    *, ignore: Sequence[str] = (), describe: Callable[[str, Any], str] | None = None,
+                    most: int = 4) -> list[SettingsGroup]:
+    """Split ``rows`` by their settings (the config's difference from the planned defaults for the
+    row's method and instance), whatever the method: a report that puts methods side by side
+    shows one section per group, so no section mixes two configs. Keys in ``ignore`` (a setting
+    the report already compares side by side) do not split. Defaults first, then by size."""
+    describe = describe or (lambda k, v: f"{k}={v}")
+    by: dict[str, dict[str, Any]] = {}
+    for r in rows:
+        default = default_config(r["method"], r.get("instance", ""))
+        diff = ({"config_hash": r["config_hash"]} if default is None else
+                {k: v for k, v in settings_diff(r["config"], default).items() if k not in ignore})
+        g = by.setdefault(canonical_json(diff), {"diff": diff, "rows": []})
+        g["rows"].append(r)
+    out = []
+    for _, g in sorted(by.items(), key=lambda kv: (bool(kv[1]["diff"]), -len(kv[1]["rows"]), kv[0])):
+        diff = g["diff"]
+        if not diff:
+            label, slug = "defaults", ""
+        else:
+            keys = sorted(diff)
+            label = ", ".join(describe(k, diff[k]) for k in keys[:most]) + (
+                f", +{len(keys) - most} more" if len(keys) > most else "")
+            slug = f"_v{_hash8(diff)}"
+        out.append(SettingsGroup(label, dict(diff), slug, tuple(g["rows"])))
+    return out

@@ -54,7 +54,7 @@ class BeamsSystem(System):
     def report(self, store: Any, out_dir: Path) -> Path:
         """Write ``out_dir/index.html`` with figures and CSVs; return its path."""
         from .report import write_report
-        return write_report(store, Path(out_dir))
+        return write_report(store, Path(out_dir), system=self)
 
 
 SYSTEM = BeamsSystem()

@@ -6,9 +6,9 @@ III-D, IV) and shown beside ours.
 
 from __future__ import annotations
 
-import csv
 import html
 import math
+import os
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
@@ -332,37 +332,62 @@ def _delay_key(inst: str):
 
 # --------------------------------------------------------------------------- HTML report
 
-def _write_csv(path: Path, lines: list[dict[str, Any]]) -> None:
-    if not lines:
-        return
-    cols = list(dict.fromkeys(k for ln in lines for k in ln))
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=cols)
-        w.writeheader()
-        for ln in lines:
-            w.writerow(ln)
+def write_report(store, out_dir: Path, system: Any = None) -> Path:
+    """Write ``out_dir/index.html`` plus PNG figures and CSV tables from the store's beams rows.
 
+    Rows are split by their settings (:func:`terrabench.report.variants.settings_groups`, the gap
+    reading aside, which is compared side by side): each group with settings other than the
+    defaults gets its own section, files suffixed with the group's slug.
 
-def write_report(store, out_dir: Path) -> Path:
-    """Write ``out_dir/index.html`` plus PNG figures and CSV tables from the store's beams rows."""
+    Raises:
+        ValueError: the store holds no beams trials, or ``out_dir`` cannot be written.
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    from terrabench.report.page import Page, provenance_html
+    from terrabench.report.variants import Defaults, settings_groups
+
+    if system is None:
+        from . import SYSTEM as system
     rows = store.rows(system="beams")
-    sections: list[str] = []
-    figs: list[tuple[str, str]] = []
+    if not rows:
+        raise ValueError(f"no beams trials in {store.path}; run `terrabench run beams` first")
+    page = Page(out_dir, "Beam traversal with environmental force sensing")
+    out_dir = page.out_dir
+    page.p(html.escape(PAPER["source"]))
+    defaults = Defaults(system)
+    groups = settings_groups(rows, defaults, ignore=("layout.gap_reading",))
+    k0 = critical_stiffness()
+    page.p(f"Critical stiffness k<sub>0</sub> = M g h<sub>c</sub> / arccos(H/L)<sup>2</sup> = "
+           f"{k0:.4f} N m/rad (paper: 0.028). Rows in store: {len(rows)} in {len(groups)} settings group(s).")
+    for rd in readings_present(rows):
+        page.p(f"<b>{rd} reading</b> rests on {html.escape(READING_BASIS[rd])}.")
+    for g in groups:
+        _group_section(page, store, list(g.rows), g.label, g.slug, plt)
+    page.h2("Provenance")
+    page.raw(provenance_html(store, rows, system_id="beams", default_config=defaults))
+    return page.finish()
+
+
+def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str, slug: str, plt: Any) -> None:
+    """One settings group: the paper-vs-ours table, the summary tables, every figure and CSV."""
+    out_dir = page.out_dir
+    page.h2(f"Settings: {html.escape(label)}")
+
+    def _write_csv(path: Path, lines: list[dict[str, Any]]) -> None:
+        if lines:
+            page.csv(path.name, lines, list(dict.fromkeys(k for ln in lines for k in ln)))
 
     def save(fig, name, caption, rd=None):
         if rd is not None and rd != "edge":
             name = name.replace(".", f"_{rd}.", 1)
+        name = name.replace(".", f"{slug}.", 1)
         if rd is not None:
             caption = f"[{rd} reading] {caption}"
         fig.tight_layout()
-        fig.savefig(out_dir / name, dpi=110)
-        plt.close(fig)
-        figs.append((name, caption))
+        page.figure(fig, name, html.escape(caption))
 
     all_rows = rows
     for rd in readings_present(all_rows) or ["edge"]:
@@ -373,7 +398,8 @@ def write_report(store, out_dir: Path) -> Path:
             save(fig, name, caption, tag)
 
         def nm(name, rd=rd):
-            return name if rd == "edge" else name.replace(".", f"_{rd}.", 1)
+            name = name if rd == "edge" else name.replace(".", f"_{rd}.", 1)
+            return name.replace(".", f"{slug}.", 1)
 
         # ---- estimation
         est = estimation_table(rows)
@@ -517,30 +543,14 @@ def write_report(store, out_dir: Path) -> Path:
                 a.legend(fontsize=7)
             save_rd(fig, "contact_check.png", "Analytic contact model vs MuJoCo quasi-static pushes (stiff contact).")
     rows = all_rows
-    _sensitivity_fig(rows, save, plt, out_dir)
-    # ---- HTML
+    _sensitivity_fig(rows, save, plt, out_dir, _write_csv, slug)
     from rich.console import Console
-    con = Console(record=True, width=150, file=open("/dev/null", "w"))
+    con = Console(record=True, width=150, file=open(os.devnull, "w"))
     con.print(summarize(rows))
-    text = con.export_text()
-    k0 = critical_stiffness()
-    sections.append(f"<p>Critical stiffness k<sub>0</sub> = M g h<sub>c</sub> / arccos(H/L)<sup>2</sup> = "
-                    f"{k0:.4f} N m/rad (paper: 0.028). Rows in store: {len(rows)}.</p>")
     pv = paper_vs_readings(rows)
-    _write_csv(out_dir / "paper_vs_readings.csv", pv)
-    for rd in readings_present(rows):
-        sections.append(f"<p><b>{rd} reading</b> rests on {html.escape(READING_BASIS[rd])}.</p>")
-    body = "\n".join(sections)
-    body += "<h2>Tables</h2><pre>" + html.escape(text) + "</pre>"
-    body += "<p>CSV: " + ", ".join(f'<a href="{p.name}">{p.name}</a>' for p in sorted(out_dir.glob("*.csv"))) + "</p>"
-    for name, cap in figs:
-        body += f'<figure><img src="{name}" style="max-width:100%"><figcaption>{html.escape(cap)}</figcaption></figure>'
-    page = (f"<!doctype html><html><head><meta charset='utf-8'><title>terrabench beams</title></head><body>"
-            f"<h1>Beam traversal with environmental force sensing</h1><p>{html.escape(PAPER['source'])}</p>"
-            f"{body}</body></html>")
-    path = out_dir / "index.html"
-    path.write_text(page)
-    return path
+    _write_csv(out_dir / f"paper_vs_readings{slug}.csv", pv)
+    page.h3("Tables")
+    page.raw("<pre>" + html.escape(con.export_text()) + "</pre>")
 
 
 def _landscape_fig(store, trav, save, plt) -> None:
@@ -583,7 +593,7 @@ def _landscape_fig(store, trav, save, plt) -> None:
                                      "path (cf. paper Fig. 4); stored trial rows give the beams and the path.")
 
 
-def _sensitivity_fig(rows, save, plt, out_dir: Path) -> None:
+def _sensitivity_fig(rows, save, plt, out_dir: Path, write_csv, slug: str = "") -> None:
     """Roll and pitch barriers (k = 0.01, 0.25) and the crossover stiffness against the gap d,
     one line style per reading; where pitch < roll the pitch mode is chosen."""
     bars = _by(rows, "beams/barriers-v1")
@@ -623,4 +633,4 @@ def _sensitivity_fig(rows, save, plt, out_dir: Path) -> None:
     save(fig, "barrier_sensitivity.png", "Sensitivity of the mode choice to the gap (Sec. II-G on our landscape): "
          "roll barrier and pitch barriers at k = 0.01 and 0.25 against d under each reading (left), and the "
          "stiffness where they are equal (right); the dotted line is the paper's d = 0.12 m.")
-    _write_csv(out_dir / "barrier_sensitivity.csv", lines)
+    write_csv(out_dir / f"barrier_sensitivity{slug}.csv", lines)

@@ -26,20 +26,20 @@ from terrabench.config import (
 
 SYSTEMS = catalog.populate().ids("system")
 
-#: sha256[:16] of canonical_json(to_dict(default config)) computed at 24c9e7f, before any field
-#: was declared with param(): declaring ranges must not change what is stored and hashed. A
-#: deliberate change of a default (or a new field) changes this too: update it in the same commit
-#: and say so, since stored rows of the old default then form their own config variant.
+#: sha256[:12] of canonical_json(to_dict(...)) of the default config ("*") or of one section,
+#: computed just before that system's fields were declared with param(): declaring ranges must not
+#: change what is stored and hashed. A deliberate change of a default (or a new field) changes
+#: these too: update the value in the same commit and say so, since stored rows of the old default
+#: then form their own config variant. (Octopus: its clm section was being edited at the time.)
 DEFAULT_HASHES = {
-    "mrs-cwc": "e9fb281499608685",
-    "beams": "670f95cd29449640",
-    "octopus": "526f3071f696f90f",
-    "soil": "5525312daf8997ff",
+    "mrs-cwc": {"*": "e9fb28149960"},
+    "octopus": {"physics": "eb9203def185", "protocol": "a386b5d2f660", "robot": "345613075482",
+                "scene": "208e60e1315c", "ccm": "c50b77f05535"},
 }
 
 
 #: systems whose fields are all declared with param() (the conversion lands system by system)
-CONVERTED: set[str] = {"mrs-cwc"}
+CONVERTED: set[str] = {"mrs-cwc"}  # octopus: clm section pending
 
 
 def _converted(sid):
@@ -103,9 +103,11 @@ def _bad_values(info):
 def test_default_config_validates_and_hash_is_unchanged(sid):
     cfg = _system(sid).base_config()
     assert validate(cfg) is cfg
-    if sid in CONVERTED:
-        digest = hashlib.sha256(canonical_json(to_dict(cfg)).encode()).hexdigest()[:16]
-        assert digest == DEFAULT_HASHES[sid], f"{sid}: the stored default config changed"
+    data = to_dict(cfg)
+    for section, expected in DEFAULT_HASHES.get(sid, {}).items():
+        value = data if section == "*" else data[section]
+        digest = hashlib.sha256(canonical_json(value).encode()).hexdigest()[:12]
+        assert digest == expected, f"{sid}: the stored default config ({section}) changed"
     again = from_dict(type(cfg), json.loads(json.dumps(to_dict(cfg))))
     assert again == cfg
 

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
+from terrabench.config import ConfigError, check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
-from terrabench.systems.base import check_finite_positive
 from terrabench.systems.octopus.ccm import CCMConfig
 from terrabench.systems.octopus.clm import CLMConfig
 from terrabench.systems.octopus.robot import RobotConfig
@@ -30,25 +31,25 @@ class SceneConfig:
         friction: ground friction.
     """
 
-    step_height: float = 0.4
-    max_step_height: float = 0.6
-    terrace_heights: tuple[float, float] = (0.2, 0.2)
-    terrace_tread: float = 0.45
-    side_yaw_deg: float = 25.0
-    block_height: float = 0.5
-    block_length: float = 0.6
-    block_width: float = 0.5
-    block_gap: float = 0.01
-    start_distance: float = 1.0
-    jitter_offset: float = 0.03
-    jitter_yaw_deg: float = 3.0
-    friction: float = 1.0
+    step_height: float = param(0.4, gt=0, unit="m", doc="height of the step-400 instance's step (<= max_step_height)")
+    max_step_height: float = param(0.6, gt=0, unit="m", doc="the largest step any instance may have")
+    terrace_heights: tuple[float, float] = param((0.2, 0.2), length=2, gt=0, unit="m", doc="rises of the two-terrace step")
+    terrace_tread: float = param(0.45, gt=0, unit="m", doc="depth of the lower terrace")
+    side_yaw_deg: float = param(25.0, ge=-90, le=90, unit="deg", doc="approach angle of terrace2-side to the edges' normal")
+    block_height: float = param(0.5, gt=0, unit="m", doc="rough-road block height")
+    block_length: float = param(0.6, gt=0, unit="m", doc="rough-road block length")
+    block_width: float = param(0.5, gt=0, unit="m", doc="rough-road block width")
+    block_gap: float = param(0.01, ge=0, unit="m", doc="gap between the robot's right flipper and the block")
+    start_distance: float = param(1.0, gt=0, unit="m", doc="chassis centre behind the first edge at the start")
+    jitter_offset: float = param(0.03, ge=0, unit="m", doc="seeds > 0 shift the start sideways by up to this")
+    jitter_yaw_deg: float = param(3.0, ge=0, le=180, unit="deg", doc="seeds > 0 turn the start by up to this")
+    friction: float = param(1.0, ge=0, doc="ground friction")
 
     def __post_init__(self) -> None:
-        check_finite_positive("scene.max_step_height", self.max_step_height, "m")
-        if not (isinstance(self.step_height, (int, float)) and 0 < self.step_height <= self.max_step_height):
-            raise ValueError(f"scene.step_height must be in (0, {self.max_step_height}] m, got {self.step_height!r}")
-        check_finite_positive("scene.start_distance", self.start_distance, "m")
+        check_fields(self)
+        if self.step_height > self.max_step_height:
+            raise ConfigError("step_height", self.step_height, f"a number in (0, {self.max_step_height}] (m), "
+                              "the largest step the arms reach (scene.max_step_height)")
 
 
 @dataclass(frozen=True)
@@ -69,22 +70,20 @@ class ProtocolConfig:
         block_past: block task: the COG this far past the block's far end (m).
     """
 
-    control_period: float = 0.02
-    timeout: float = 60.0
-    log_period: float = 0.1
-    check_period: float = 0.5
-    turn_over: float = 1.2
-    stuck_time: float = 20.0
-    stuck_progress: float = 0.03
-    success_past: float = 0.35
-    success_tilt: float = 0.2
-    success_hold: float = 1.0
-    block_past: float = 0.6
+    control_period: float = param(0.02, gt=0, unit="s", doc="controller period")
+    timeout: float = param(60.0, gt=0, unit="s", doc="simulated time limit")
+    log_period: float = param(0.1, gt=0, unit="s", doc="stored series period")
+    check_period: float = param(0.5, gt=0, unit="s", doc="slow check / divergence test period")
+    turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")
+    stuck_time: float = param(20.0, gt=0, unit="s", doc="no progress for this long is stuck")
+    stuck_progress: float = param(0.03, gt=0, unit="m", doc="progress that counts")
+    success_past: float = param(0.35, ge=0, unit="m", doc="the COG this far past the (last) edge on top")
+    success_tilt: float = param(0.2, gt=0, le=math.pi, unit="rad", doc="|roll| and |pitch| below this count as stable")
+    success_hold: float = param(1.0, ge=0, unit="s", doc="held on top and stable this long")
+    block_past: float = param(0.6, ge=0, unit="m", doc="block task: the COG this far past the block's far end")
 
     def __post_init__(self) -> None:
-        check_finite_positive("protocol.timeout", self.timeout, "simulated seconds")
-        check_finite_positive("protocol.control_period", self.control_period, "s")
-        check_finite_positive("protocol.turn_over", self.turn_over, "rad")
+        check_fields(self)
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from terrabench.config import param
 from terrabench.terrain.mjcf import GROUND_BIT
 
 ARMS = ("LF", "RF", "LR", "RR")
@@ -114,36 +115,36 @@ class RobotConfig:
         friction: sliding friction of the robot's geoms (tracks, tips).
     """
 
-    pulley_x: float = 0.2
-    pulley_r: float = 0.09
-    track_y: float = 0.22
-    track_w: float = 0.1
-    chassis_half: tuple[float, float, float] = (0.25, 0.17, 0.09)
-    chassis_z: float = 0.06
-    chassis_mass: float = 56.0
-    flipper_len: float = 0.25
-    flipper_tip_r: float = 0.05
-    flipper_y: float = 0.31
-    flipper_w: float = 0.06
-    flipper_mass: float = 3.0
-    flipper_range: tuple[float, float] = (-1.2, 1.4835)
-    flipper_torque: float = 250.0
-    flipper_kp: float = 3000.0
-    arm_mount: tuple[float, float, float] = (0.2, 0.17, 0.15)
-    l1: float = 0.45
-    l2: float = 0.45
-    d3: float = 0.0
-    link_r: float = 0.03
-    tip_r: float = 0.04
-    link_mass: tuple[float, float, float] = (2.5, 1.5, 0.5)
-    swing_range: tuple[float, float] = (-1.3, 1.3)
-    boom_range: tuple[float, float] = (-1.2, 1.3)
-    elbow_range: tuple[float, float] = (-0.3, 2.6)
-    arm_torque: tuple[float, float, float] = (100.0, 300.0, 150.0)
-    arm_kp: tuple[float, float, float] = (800.0, 2500.0, 1500.0)
-    arm_damping: float = 20.0
-    roller_damping: float = 0.02
-    friction: float = 1.0
+    pulley_x: float = param(0.2, gt=0, unit="m", doc="main-track pulley centres at +-pulley_x")
+    pulley_r: float = param(0.09, gt=0, unit="m", doc="main-track pulley radius")
+    track_y: float = param(0.22, gt=0, unit="m", doc="main-track centre line at +-track_y")
+    track_w: float = param(0.1, gt=0, unit="m", doc="main-track width")
+    chassis_half: tuple[float, float, float] = param((0.25, 0.17, 0.09), length=3, gt=0, unit="m", doc="chassis box half sizes")
+    chassis_z: float = param(0.06, ge=0, unit="m", doc="chassis centre above the pulley axis")
+    chassis_mass: float = param(56.0, gt=0, unit="kg", doc="chassis mass")
+    flipper_len: float = param(0.25, gt=0, unit="m", doc="flipper pivot to tip pulley")
+    flipper_tip_r: float = param(0.05, gt=0, unit="m", doc="flipper tip pulley radius")
+    flipper_y: float = param(0.31, gt=0, unit="m", doc="flipper centre line at +-flipper_y")
+    flipper_w: float = param(0.06, gt=0, unit="m", doc="flipper width")
+    flipper_mass: float = param(3.0, gt=0, unit="kg", doc="mass of each flipper")
+    flipper_range: tuple[float, float] = param((-1.2, 1.4835), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="flipper joint range (lower, upper)")
+    flipper_torque: float = param(250.0, gt=0, unit="N m", doc="flipper actuator torque limit")
+    flipper_kp: float = param(3000.0, gt=0, unit="N m/rad", doc="flipper position gain")
+    arm_mount: tuple[float, float, float] = param((0.2, 0.17, 0.15), length=3, ge=0, unit="m", doc="arm base at (+-x, +-y, z) in the chassis frame")
+    l1: float = param(0.45, gt=0, unit="m", doc="boom length")
+    l2: float = param(0.45, gt=0, unit="m", doc="forearm length")
+    d3: float = param(0.0, ge=0, unit="m", doc="lateral offset of the forearm")
+    link_r: float = param(0.03, gt=0, unit="m", doc="arm link capsule radius")
+    tip_r: float = param(0.04, gt=0, unit="m", doc="arm tip sphere radius")
+    link_mass: tuple[float, float, float] = param((2.5, 1.5, 0.5), length=3, gt=0, unit="kg", doc="(boom, forearm, tip) masses")
+    swing_range: tuple[float, float] = param((-1.3, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="swing joint range (lower, upper)")
+    boom_range: tuple[float, float] = param((-1.2, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="boom joint range (lower, upper)")
+    elbow_range: tuple[float, float] = param((-0.3, 2.6), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="elbow joint range (lower, upper)")
+    arm_torque: tuple[float, float, float] = param((100.0, 300.0, 150.0), length=3, gt=0, unit="N m", doc="(swing, boom, elbow) torque limits")
+    arm_kp: tuple[float, float, float] = param((800.0, 2500.0, 1500.0), length=3, gt=0, unit="N m/rad", doc="(swing, boom, elbow) position gains")
+    arm_damping: float = param(20.0, ge=0, unit="N m s/rad", doc="joint damping of the arm joints")
+    roller_damping: float = param(0.02, ge=0, unit="N m s/rad", doc="joint damping of the tip rollers")
+    friction: float = param(1.0, ge=0, doc="sliding friction of the robot geoms (tracks, tips)")
 
 
 def _surface(geom, lin=(0.0, 0.0, 0.0), ang=(0.0, 0.0, 0.0)) -> None:

@@ -44,10 +44,15 @@ class CLMConfig:
         hit_torque: elbow-torque change of a supporting arm that signals a collision (N m).
         press: a supporting tip's target sits this far below its measured height (m): a press of
             bounded force, so the crawlers carry most of the load (eqs. 22-27, :meth:`_support`).
+        arm_moving: supporting arms follow the body (eqs. 22-27); False (a control for the
+            tests) keeps their joint targets fixed in {R}, so their tips roll with the body.
         reach_min: (front, rear) arms: a foothold behind this x in {R} is out of range (m); the
             crawlers wait for its transfer.
         lower_dz: a lowering tip's target descends this much a tick (m) (0.5 m/s), three times
             that while more than 0.15 m above the target height.
+        tau_filter: per-tick weight of the elbow torque in its free-motion reference while lowering.
+        settle_dz, settle_ticks: a landed tip that moves less than settle_dz (m) a tick for
+            settle_ticks ticks has settled: it is a support.
         stall_dz: a lowering tip this far above its target has landed (stopped following) (m).
         pit_depth: no ground this far below the transfer target: a pit (arm stop case 3) (m).
         reach_max: a foothold farther than this from its arm's mount, horizontally, is out of
@@ -83,9 +88,13 @@ class CLMConfig:
     contact_torque: float = 20.0
     hit_torque: float = 45.0
     press: float = 0.005
+    arm_moving: bool = True
     reach_min: tuple[float, float] = (0.2, -0.9)
     reach_max: float = 0.8
     lower_dz: float = 0.01
+    tau_filter: float = 0.15
+    settle_dz: float = 0.0005
+    settle_ticks: int = 5
     stall_dz: float = 0.04
     pit_depth: float = 0.45
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
@@ -272,7 +281,10 @@ class CLMController:
         self.tip_c = np.zeros((4, 3))
         self.tip_r = np.zeros((4, 3))
         self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
-        self.low_z = np.zeros(4)  # tip height target of a lowering arm in {R} (m)
+        self.tip_z = self.prev_tip_z = np.zeros(4)
+        self.low_z = np.zeros(4)
+        self.landing = np.zeros(4, bool)  # landed, pressing, not yet settled
+        self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
         self.out_of_reach = False
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
@@ -319,7 +331,7 @@ class CLMController:
         cfg = self.cfg
         moving = [k for k in ARMS if self.phase[k]]
         if not moving:
-            if obs.t < self.pause_until:
+            if obs.t < self.pause_until or self.landing.any():
                 return -1
             if self.queue:
                 k = self.queue.pop(0)
@@ -346,13 +358,16 @@ class CLMController:
             # fast while high above the expected ground, then slow for a soft touch
             self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
             touched = contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque)
-            blocked = self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz
+            # blocked: the tip lags its target and has stopped descending (a servo lag alone
+            # while the target falls fast is not a contact)
+            stopped = self.tip_r[i, 2] - self.prev_tip_z[i] > -0.25 * cfg.lower_dz
+            blocked = stopped and self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz
             if self.t3[i] > 0.2 and (touched or blocked):
                 self._land(obs, k, i)
                 return i
-            if self.t3[i] <= 0.2:
-                # the free-motion reference follows the slow changes (gravity, servo lag)
-                self.tau_ref[i] = 0.7 * self.tau_ref[i] + 0.3 * obs.tau_elbow[i]
+            # the free-motion reference follows the slow changes (gravity, servo lag, the IK's
+            # posture): a contact is a jump above it
+            self.tau_ref[i] += cfg.tau_filter * (obs.tau_elbow[i] - self.tau_ref[i])
             new_ph, c = (4 if self.low_z[i] < tz - cfg.pit_depth else 3), ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
         else:
             new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
@@ -370,16 +385,25 @@ class CLMController:
         return i
 
     def _land(self, obs, k: str, i: int) -> None:
+        """The lowering arm stopped (contact signal): it presses (see :meth:`_support`) and is a
+        support once its tip has settled (:meth:`_settle`)."""
         cfg = self.cfg
         self.phase[k] = 0
-        self.contact[i] = True
-        # press: the tip target goes straight down by ``press`` in {R} (IK), so the arm takes load
-        # without pushing the chassis sideways on its rolling tips (a boom-only press would)
+        self.landing[i], self.still[i] = True, 0
         p = self.tip_r[i].copy()
         self.foot[i] = p
         self.cmd.arm[i] = ak.ik(p - np.array([0.0, 0.0, cfg.press]), self.robot, k)
+
+    def _settle(self, obs, k: str, i: int) -> None:
+        """A landing tip that has stopped moving (encoders) for ``settle_ticks`` is a support:
+        its elbow torque becomes the collision reference and the arm stop case is recorded."""
+        cfg = self.cfg
+        self.still[i] = self.still[i] + 1 if abs(self.tip_z[i] - self.prev_tip_z[i]) < cfg.settle_dz else 0
+        if self.still[i] < cfg.settle_ticks:
+            return
+        self.landing[i], self.contact[i] = False, True
         self.tau_ref[i] = obs.tau_elbow[i]
-        case = arm_stop_case(p, self.targets[k], cfg.d_c, cfg.d_d)
+        case = arm_stop_case(self.tip_r[i], self.targets[k], cfg.d_c, cfg.d_d)
         self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
         self.pause_until = obs.t + cfg.gait_pause
 
@@ -400,10 +424,13 @@ class CLMController:
         dx = v * self.dt * math.cos(a)
         out = False
         for i, k in enumerate(ARMS):
-            if self.phase[k] or not self.contact[i]:
+            if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue
+            if self.landing[i]:
+                self._settle(obs, k, i)
             f = self.foot[i]
-            f[0] -= dx
+            if cfg.arm_moving:
+                f[0] -= dx
             f[2] = self.tip_r[i, 2] - cfg.press
             self.cmd.arm[i] = ak.ik(f, self.robot, k)
             sx, sy = CORNER[k]
@@ -473,11 +500,13 @@ class CLMController:
         # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
         self.tip_r = ak.fk_all(obs.q_arm, self.robot)
         self.tip_c = self.tip_r @ ak.rotation_rc(obs.roll, obs.pitch).T
+        self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].copy()
         z = self.tip_c[:, 2]
         if self.state == INIT:
             c.track[:] = 0.0
+            self._support(obs, 0.0)
             i = self._transfer(obs)
-            if i < 0 and not self.queue and not any(self.phase.values()):
+            if i < 0 and not self.queue and not any(self.phase.values()) and not self.landing.any():
                 self._goto(obs.t, WALK, "four arms placed")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)

@@ -13,7 +13,7 @@ import numpy as np
 from terrabench.metrics.navigation import navigation_metrics
 from terrabench.sim.episode import Timing
 from terrabench.sim.scene import index_view, writer
-from terrabench.sim.stall import StallWatch
+from terrabench.sim.checks import Stalled, fell
 from terrabench.systems.base import TaskBase
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.config import MRSConfig
@@ -93,7 +93,7 @@ class MRSTask(TaskBase):
         self._set_yaw_targets = writer(data.ctrl, self.yaw_servos)
         self._power_buf = np.zeros((n, 2))
         # the opt-in stall stop (protocol.stall_time)
-        self._stall = StallWatch(pr.stall_time, pr.stall_distance) if pr.stall_time > 0 else None
+        self._stall = Stalled(pr.stall_time, pr.stall_distance) if pr.stall_time > 0 else None
         return self.obs
 
     # ------------------------------------------------------------------ loop
@@ -105,8 +105,7 @@ class MRSTask(TaskBase):
             pr = self.cfg.protocol
             return "success", f"leader within {pr.success_threshold} m of the target"
         if obs.leader_z < self.cfg.protocol.fall_z:
-            pr = self.cfg.protocol
-            return "fell", f"leader below z = {pr.fall_z} m"
+            return fell(obs.leader_z, self.cfg.protocol.fall_z, "leader")
         if slow:
             self.drop_fallen_units(self.cfg.protocol.fall_z)
             if self._stall is not None:
@@ -114,15 +113,13 @@ class MRSTask(TaskBase):
         return None
 
     def _stalled(self, obs: Observation) -> tuple[str, str] | None:
-        """``stuck`` per :class:`~terrabench.sim.stall.StallWatch` on the leader's position and
+        """``stuck`` per :class:`~terrabench.sim.checks.Stalled` on the leader's position and
         target distance. Checked on the slow period only. NCR, NEF's numerator and success
         depend on d_min alone, so a trial stopped here keeps its NCR; its journey, energy and
         NEC are those at the stop.
         """
         p = obs.pos[0]
-        if self._stall.update(obs.t, float(p[0]), float(p[1]), obs.target_distance):
-            return "stuck", self._stall.reason()
-        return None
+        return self._stall(obs.t, float(p[0]), float(p[1]), obs.target_distance)
 
     def apply(self, cmd: ctl.Command) -> None:
         if self._constraint_drive:

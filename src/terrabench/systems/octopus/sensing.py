@@ -7,24 +7,14 @@ flipper joint torques and the elbow torques. Nothing about the terrain, no conta
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
+from terrabench.sim.checks import roll_pitch  # noqa: F401 - re-exported: the IMU's angles
 from terrabench.systems.octopus.robot import Names, actuated_joints, torque_joints
 
 #: every field an observation carries (the sensing-boundary test pins this list)
 FIELDS = ("t", "roll", "pitch", "q_flip", "q_arm", "tau_flip", "tau_elbow")
-
-
-def roll_pitch(quat: np.ndarray) -> tuple[float, float]:
-    """Roll (left side up > 0) and pitch (nose up > 0) in rad of a body quaternion (w, x, y, z)."""
-    w, x, y, z = quat
-    r20 = 2.0 * (x * z - w * y)        # R[2, 0]
-    r21 = 2.0 * (y * z + w * x)        # R[2, 1]
-    r22 = 1.0 - 2.0 * (x * x + y * y)  # R[2, 2]
-    return math.atan2(r21, r22), math.asin(max(-1.0, min(1.0, r20)))
 
 
 class Observation:

@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from terrabench.sim.episode import Timing
-from terrabench.sim.stall import StallWatch
+from terrabench.sim.checks import Stalled, turned_over
 from terrabench.systems.base import TaskBase
 from terrabench.systems.octopus.clm import Command
 from terrabench.systems.octopus.config import OctopusConfig
@@ -135,7 +135,7 @@ class OctopusTask(TaskBase):
         self.robot_geom = ~self.ground
         self.obs = Observation(model, data)
         pr = self.cfg.protocol
-        self._stall = StallWatch(pr.stuck_time, pr.stuck_progress)
+        self._stall = Stalled(pr.stuck_time, pr.stuck_progress)
         self._hold = 0.0
         self._hold_n = int(round(pr.success_hold / pr.control_period))
         self._on_top_n = 0
@@ -166,12 +166,15 @@ class OctopusTask(TaskBase):
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
         pr, lay = self.cfg.protocol, self.layout
         roll, pitch = roll_pitch(self.data.xquat[self.chassis])
-        if abs(roll) > pr.turn_over or abs(pitch) > pr.turn_over:
-            return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {pr.turn_over} rad"
+        over = turned_over(roll, pitch, pr.turn_over)
+        if over is not None:
+            return over
         s, lat = self.progress()
         goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
-        if slow and self._stall.update(self.data.time, s, lat, abs(goal - s)):
-            return "stuck", f"{self._stall.reason()} (at s = {s:.2f} m)"
+        if slow:
+            stuck = self._stall(self.data.time, s, lat, abs(goal - s), f"at s = {s:.2f} m")
+            if stuck is not None:
+                return stuck
         z = float(self.data.xpos[self.chassis, 2])
         stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
         if lay.kind == "block":

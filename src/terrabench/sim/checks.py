@@ -1,0 +1,54 @@
+"""Stop rules every system shares, written once: turned over, fallen, stalled.
+
+Each rule returns ``(status, reason)`` when it fires and None otherwise, the shape a task's
+``check`` returns (:class:`terrabench.systems.base.Task`). Statuses are the shared ones of
+:data:`terrabench.benchmark.trial.STATUSES`.
+"""
+
+from __future__ import annotations
+
+import math
+
+from terrabench.sim.stall import StallWatch
+
+Stop = "tuple[str, str] | None"
+
+
+def roll_pitch(quat) -> tuple[float, float]:
+    """Roll (left side up > 0) and pitch (nose up > 0) in rad of a body quaternion (w, x, y, z)
+    with x forward and z up (Z-Y-X Euler angles)."""
+    w, x, y, z = (float(v) for v in quat)
+    r20 = 2.0 * (x * z - w * y)        # R[2, 0]
+    r21 = 2.0 * (y * z + w * x)        # R[2, 1]
+    r22 = 1.0 - 2.0 * (x * x + y * y)  # R[2, 2]
+    return math.atan2(r21, r22), math.asin(max(-1.0, min(1.0, r20)))
+
+
+def turned_over(roll: float, pitch: float, limit: float) -> tuple[str, str] | None:
+    """``turned_over`` once |roll| or |pitch| exceeds ``limit`` (rad)."""
+    if abs(roll) > limit or abs(pitch) > limit:
+        return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {limit} rad"
+    return None
+
+
+def fell(z: float, z_min: float, what: str = "body") -> tuple[str, str] | None:
+    """``fell`` once the height ``z`` of ``what`` is below ``z_min`` (m)."""
+    if z < z_min:
+        return "fell", f"{what} below z = {z_min} m"
+    return None
+
+
+class Stalled:
+    """``stuck`` once :class:`~terrabench.sim.stall.StallWatch` fires: ``time`` s without moving
+    ``distance`` m or getting that much closer to the goal. Feed it on the slow checks only (the
+    stored-series replay :func:`terrabench.sim.stall.first_stall` assumes so)."""
+
+    __slots__ = ("watch",)
+
+    def __init__(self, time: float, distance: float):
+        self.watch = StallWatch(time, distance)
+
+    def __call__(self, t: float, x: float, y: float, d: float, where: str = "") -> tuple[str, str] | None:
+        if self.watch.update(t, x, y, d):
+            return "stuck", self.watch.reason() + (f" ({where})" if where else "")
+        return None

@@ -86,10 +86,25 @@ def _main(version: bool = typer.Option(False, "--version", callback=_version, is
 
 @app.command("list")
 @friendly
-def list_cmd() -> None:
-    """Systems, scenarios and methods, one line each."""
+def list_cmd(
+    system: Optional[str] = typer.Argument(None, help="a system id: its methods, groups (with sizes) and instance ids"),
+    statuses: bool = typer.Option(False, "--statuses", help="what each trial status means"),
+) -> None:
+    """Systems, scenarios and methods, one line each; `list SYSTEM` for one system's groups and ids."""
     from terrabench.catalog import populate
 
+    if statuses:
+        from terrabench.describe import statuses_table
+
+        console.print(statuses_table())
+        return
+    if system is not None:
+        from terrabench.catalog import system as get_system
+        from terrabench.describe import system_tables
+
+        for part in system_tables(get_system(system)):
+            console.print(part, highlight=False)
+        return
     reg = populate()
     for kind in ("system", "scenario", "method"):
         console.print(f"[bold]{kind}s[/]")
@@ -103,13 +118,22 @@ def list_cmd() -> None:
         for env_id in get_system(r.id).env_ids:
             console.print(f"  {env_id:<28} {r.id}", highlight=False)
 
+@app.command("config")
+@friendly
+def config_cmd(system: str = typer.Argument(..., help="system id, e.g. mrs-cwc")) -> None:
+    """Every `--set KEY=VALUE` key of a system: default, type, valid range and meaning."""
+    from terrabench.catalog import system as get_system
+    from terrabench.describe import config_table
+
+    console.print(config_table(get_system(system)))
+
 @app.command()
 @friendly
 def run(
     system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
     methods: Optional[str] = typer.Option(None, help="comma-separated method ids, or 'all'"),
     terrains: Optional[str] = typer.Option(None, help="comma-separated terrain/case ids, e.g. A-01,B-07"),
-    group: Optional[str] = typer.Option(None, help="instance group (mrs-cwc: A, B or all); see `terrabench list`"),
+    group: Optional[str] = typer.Option(None, help="instance group (mrs-cwc: A, B or all); see `terrabench list SYSTEM`"),
     seeds: int = typer.Option(1, help="seeds per (method, terrain); seed 0 is the released protocol"),
     backend: str = typer.Option("local", help="local or ray"),
     workers: Optional[int] = typer.Option(None, help="parallel trials (default: all cores)"),

@@ -25,8 +25,9 @@ class MRSCWCSystem(System):
     id = "mrs-cwc"
     summary = "MRS-CWC robot chain on 100 rough terrains (Xiao et al.)"
     config_cls = MRSConfig
-    groups = {"A": "mean axis slope below 30 deg (lessthan30 rows 1-50)",
-              "B": "mean axis slope 30 deg or more (morethan30 rows 1-50)"}
+    groups = {"A": "the released lessthan30 file, rows 1-50 (mean axis slope 0.3-29.0 deg)",
+              "B": "the released morethan30 file, rows 1-50 (the paper's 'over 30 deg' group; "
+                   "mean axis slope 29.3-44.1 deg)"}
     default_group = "all"
     timeout_key = "protocol.timeout"
     threshold_key = "protocol.success_threshold"

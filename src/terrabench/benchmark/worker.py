@@ -1,0 +1,82 @@
+"""Running one trial in the current process, and what a fault looks like as a result.
+
+Shared by every backend (:mod:`terrabench.benchmark.pool`, :mod:`terrabench.benchmark.ray_backend`)
+and by :func:`terrabench.benchmark.runner.run_trials`' in-process path.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import signal
+import time
+import traceback
+from typing import Any
+
+from terrabench.benchmark.trial import TrialResult, TrialSpec
+
+
+def execute(spec: TrialSpec) -> TrialResult:
+    """Run one spec in this process; exceptions become an ``error`` result."""
+    from terrabench.catalog import system
+
+    t0 = time.perf_counter()
+    try:
+        result = system(spec.system).run_trial(spec)
+    except Exception as exc:  # a bug in one trial must not end a 10,000-trial run
+        result = TrialResult(
+            status="error",
+            info={"error": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(limit=8)},
+        )
+    if not result.wall_time:
+        result.wall_time = time.perf_counter() - t0
+    result.info["host"] = host_fingerprint()
+    return result
+
+
+@functools.lru_cache(maxsize=1)
+def host_fingerprint() -> dict[str, Any]:
+    """What besides the spec decides a trial's last bits: library versions and the CPU paths.
+
+    A trial is a deterministic function of its spec *on one kind of machine*. numpy picks SIMD
+    kernels at run time: on a CPU with AVX-512, ``np.arctan2`` (the chains' headings) differs
+    from the scalar libm result in the last bit on ~7 % of inputs, and on a chaotic terrain a
+    last-bit difference grows to metres within a minute (docs/performance.md). Stored with
+    every row so that two stores can be compared knowing whether they can agree bitwise.
+    """
+    import platform
+
+    import mujoco
+    import numpy as np
+
+    try:
+        from numpy._core import _multiarray_umath as um  # numpy >= 2
+    except ImportError:  # pragma: no cover - numpy 1.x
+        from numpy.core import _multiarray_umath as um
+    features = getattr(um, "__cpu_features__", {})
+    simd = [f for f in getattr(um, "__cpu_dispatch__", []) if features.get(f)]
+    return {"machine": platform.machine(), "python": platform.python_version(), "numpy": np.__version__,
+            "mujoco": mujoco.__version__, "numpy_simd": simd}
+
+
+def default_workers() -> int:
+    """The cores this process may run on."""
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
+
+
+def fault_result(reason: str, kind: str, wall_time: float, **info: Any) -> TrialResult:
+    """An ``error`` row for a fault of the machinery (a dead worker, a hang), not of the physics."""
+    return TrialResult(status="error", wall_time=wall_time, info={"error": reason, "fault": kind, **info})
+
+
+def exit_reason(exitcode: int | None) -> str:
+    """``"worker died: signal 9 (SIGKILL)"`` / ``"exit code 3"`` from a process exit code."""
+    if exitcode is None:
+        return "worker died: no exit status"
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            return f"worker died: signal {-exitcode}"
+        return f"worker died: signal {-exitcode} ({name})"
+    return f"worker died: exit code {exitcode}"

@@ -83,9 +83,10 @@ def test_frame_times():
 def test_report_strip(tmp_path):
     from terrabench.report.page import Page
     from terrabench.systems.mrs_cwc.report import _strip
+    from terrabench.systems.mrs_cwc.scenarios import SYSTEM
 
     page = Page(tmp_path, "strip")
-    _strip(page, [], seconds=0.5)
+    _strip(page, SYSTEM, [], seconds=0.5)
     assert "src='trial_strip.png'" in page.finish().read_text() and (tmp_path / "trial_strip.png").exists()
 
 
@@ -97,9 +98,11 @@ def test_report_strip_without_gl_is_a_note(tmp_path, monkeypatch):
     def no_gl(width, height):
         raise render_mod.GLUnavailable("no headless OpenGL context could be created (egl: test)")
 
+    from terrabench.systems.mrs_cwc.scenarios import SYSTEM
+
     monkeypatch.setattr(render_mod, "_gl_context", no_gl)
     page = Page(tmp_path, "strip")
-    _strip(page, [], seconds=0.5)
+    _strip(page, SYSTEM, [], seconds=0.5)
     text = page.finish().read_text()
     assert "Snapshots skipped: no headless OpenGL" in text and not (tmp_path / "trial_strip.png").exists()
 

@@ -332,7 +332,7 @@ def _delay_key(inst: str):
 
 # --------------------------------------------------------------------------- HTML report
 
-def write_report(store, out_dir: Path, system: Any = None) -> Path:
+def write_report(store, out_dir: Path, system: Any) -> Path:
     """Write ``out_dir/index.html`` plus PNG figures and CSV tables from the store's beams rows.
 
     Rows are split by their settings (:func:`terrabench.report.variants.settings_groups`, the gap
@@ -349,8 +349,6 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
     from terrabench.report.page import Page, provenance_html
     from terrabench.report.variants import Defaults, settings_groups
 
-    if system is None:
-        from . import SYSTEM as system
     rows = store.rows(system="beams")
     if not rows:
         raise ValueError(f"no beams trials in {store.path}; run `terrabench run beams` first")

@@ -73,7 +73,7 @@ _MARKERS = {
 }
 
 
-def write_report(store, out_dir: Path, render: bool = False) -> Path:
+def write_report(store, out_dir: Path, render: bool = False, system: Any = None) -> Path:
     """Write the MRS-CWC report from ``store``'s rows; returns the path of ``index.html``.
 
     Args:
@@ -81,6 +81,7 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
         out_dir: folder for the HTML page, PNG figures and CSV tables (created if missing).
         render: also render a frame strip of a short MRS-CWC + TDT trial (:func:`_strip`;
             off by default: it costs a few seconds of simulation and GL rendering).
+        system: the MRS-CWC system object (needed for ``render``; the system passes itself).
 
     Raises:
         ValueError: the store holds no mrs-cwc trials.
@@ -150,7 +151,9 @@ def write_report(store, out_dir: Path, render: bool = False) -> Path:
                     "stiffness K and |tau_env| of the MRS-CWC + TDT run, as stored (every protocol.log_period).")
 
     if render:
-        _strip(page, tagged)
+        if system is None:
+            raise ValueError("render=True needs the system: write_report(store, out, render=True, system=SYSTEM)")
+        _strip(page, system, tagged)
     page.h2("A* waypoints: our planner vs the released ones")
     _astar_section(page, tagged, variants)
 
@@ -220,18 +223,18 @@ def _seeds_section(page: "Page", variants: list[Variant], seeded: list[dict[str,
                                 for ln in lines], SEED_COLUMNS))
 
 
-def _strip(page: Page, rows: list[dict[str, Any]], seconds: float = 3.0, name: str = "trial_strip.png") -> None:
+def _strip(page: Page, system: Any, rows: list[dict[str, Any]], seconds: float = 3.0,
+           name: str = "trial_strip.png") -> None:
     """Four snapshots of a short MRS-CWC + TDT trial (the first stored cwc-tdt terrain, else A-01;
     ``seconds`` simulated), or a note when this machine has no headless GL."""
     from terrabench.systems.mrs_cwc.env import overlay
-    from terrabench.systems.mrs_cwc.scenarios import SYSTEM
 
     tid = next((r["instance"] for r in rows if r["method"].startswith("cwc-tdt")), "A-01")
-    spec = SYSTEM.plan(methods=["cwc-tdt"], instances=[tid], overrides={"protocol.timeout": seconds + 0.1})[0]
+    spec = system.plan(methods=["cwc-tdt"], instances=[tid], overrides={"protocol.timeout": seconds + 0.1})[0]
     times = [seconds * k / 3 for k in range(4)]
     page.snapshots(name, f"MRS-CWC + TDT on {tid}, the first {seconds:g} simulated seconds (t = "
                    f"{', '.join(f'{t:g}' for t in times)} s), rendered from the benchmark's own episode "
-                   "(<code>terrabench render</code> makes a clip).", SYSTEM, spec, times, overlay=overlay)
+                   "(<code>terrabench render</code> makes a clip).", system, spec, times, overlay=overlay)
 
 
 # ------------------------------------------------------------------ variants and tables

@@ -88,7 +88,7 @@ class MRSCWCSystem(System):
     def report(self, store, out_dir: Path) -> Path:
         from terrabench.systems.mrs_cwc.report import write_report
 
-        return write_report(store, Path(out_dir), render=True)
+        return write_report(store, Path(out_dir), render=True, system=self)
 
 
 def jittered(cfg: MRSConfig, seed: int):

@@ -75,6 +75,8 @@ class SoilParams:
         c_exit1: slip part of the exit ratio (-), in [-1, 1]; the ratio is clipped to [0, 1].
         bulldoze: factor on the sidewall bulldozing force (Ishigami 2007 with Hegedus' passive
             pressure), in [0, 10]; 0 = off.
+        plough: factor on the front-face ploughing resistance of a braked wheel (the same passive
+            pressure over the rut depth, mobilised by the skid -s), in [0, 10]; 0 = off.
         source: citation / provenance string.
     """
 
@@ -97,6 +99,7 @@ class SoilParams:
     a1_skid: float | None = None  # range: [-1, 1] or None
     c_exit1: float = 0.0  # range: [-1, 1]
     bulldoze: float = 1.0  # range: [0, 10]
+    plough: float = 1.0  # range: [0, 10]
 
     def __post_init__(self) -> None:
         if self.form not in FORMS:
@@ -119,6 +122,7 @@ class SoilParams:
         _check("c_exit", self.c_exit, 0 <= self.c_exit <= 1, "0 <= c_exit <= 1")
         _check("c_exit1", self.c_exit1, -1 <= self.c_exit1 <= 1, "-1 <= c_exit1 <= 1")
         _check("bulldoze", self.bulldoze, 0 <= self.bulldoze <= 10, "0 <= bulldoze <= 10")
+        _check("plough", self.plough, 0 <= self.plough <= 10, "0 <= plough <= 10")
 
     @property
     def tan_phi(self) -> float:
@@ -200,7 +204,7 @@ def pack(soil: SoilParams, wheel: WheelParams) -> np.ndarray:
     a1s = soil.a1 if soil.a1_skid is None else soil.a1_skid
     return np.array([wheel.radius, wheel.width, k, L, soil.n, soil.n1, soil.n2, soil.c, soil.tan_phi,
                      soil.K, soil.Ky, soil.a0, soil.a1, a1s, soil.c_exit, soil.c_exit1, soil.gamma,
-                     soil.bulldoze * d1, d2, 0.0])
+                     soil.bulldoze * d1, d2, soil.plough * d1])
 
 
 @numba.njit(cache=True, fastmath=False)
@@ -221,17 +225,45 @@ def _angles(z, s, P):
     return th1, thm, thr
 
 
+@numba.njit(cache=True)
+def _slip_total(s, C):
+    """Slip of the rim speed against the hub's total speed (longitudinal and lateral)."""
+    if C <= 0.0:
+        return s
+    A = 1.0 if s >= 0 else 1.0 + s
+    B = 1.0 - s if s >= 0 else 1.0
+    vh = math.sqrt(B * B + C * C)
+    return (A - vh) / max(A, vh)
+
+
+@numba.njit(cache=True)
+def _slip_total_many(s, C, out):
+    for i in range(s.shape[0]):
+        out[i] = _slip_total(s[i], C[i])
+
+
+def slip_total(s, q):
+    """Slip of the rim against the hub's total speed, ``(r omega - |v|) / max(r omega, |v|)``,
+    from the longitudinal slip s and the lateral ratio q = C (equals s at C = 0). The slip-dependent
+    terms (sinkage exponent, stress and exit angles) use it: the CMU data define slip this way."""
+    s, q = np.broadcast_arrays(np.asarray(s, float), np.abs(np.asarray(q, float)))
+    out = np.empty(s.size)
+    _slip_total_many(np.ascontiguousarray(s.ravel()), np.ascontiguousarray(np.minimum(q.ravel(), 1e9)), out)
+    return out.reshape(s.shape)
+
+
 @numba.njit(cache=True, fastmath=False)
 def _point(z, s, C, P, gx, gw):
     """W, DP, T, Fy of one wheel state (z m, s -, C -)."""
     r, b, k, L = P[0], P[1], P[2], P[3]
     if z <= 0.0:
         return 0.0, 0.0, 0.0, 0.0
-    n = P[4] + P[5] * s if s >= 0 else P[4] - P[6] * s
-    c, tphi, K, Ky, gam, bd1, d2 = P[7], P[8], P[9], P[10], P[16], P[17], P[18]
-    th1, thm, thr = _angles(z, s, P)
     A = 1.0 if s >= 0 else 1.0 + s
     B = 1.0 - s if s >= 0 else 1.0
+    se = _slip_total(s, C)
+    n = P[4] + P[5] * se if se >= 0 else P[4] - P[6] * se
+    c, tphi, K, Ky, gam, bd1, d2 = P[7], P[8], P[9], P[10], P[16], P[17], P[18]
+    th1, thm, thr = _angles(z, se, P)
     c1, s1 = math.cos(th1), math.sin(th1)
     W = 0.0
     DP = 0.0
@@ -278,10 +310,11 @@ def _point(z, s, C, P, gx, gw):
     if bd1 > 0.0 and C > 0.0:
         Fy += Fb * (1.0 - math.exp(-C * r * (th1 - thr) / Ky))
     DP = r * b * DP
-    if bd1 > 0.0 and s < 0.0:
+    pl1 = P[19]
+    if pl1 > 0.0 and s < 0.0:
         # a braked wheel ploughs: passive pressure on the front face over the rut depth z,
         # mobilised by the part of the travel the rim does not carry under the wheel (-s)
-        DP -= -s * b * bd1 * (c * z + 0.5 * d2 * gam * z * z)
+        DP -= -s * b * pl1 * (c * z + 0.5 * d2 * gam * z * z)
     return r * b * W, DP, r * r * b * T, Fy
 
 
@@ -368,10 +401,11 @@ def wheel_forces(z, s, soil: SoilParams, wheel: WheelParams, q=0.0):
     zf, sf = np.ascontiguousarray(z.ravel()), np.ascontiguousarray(s.ravel())
     _many(zf, sf, np.ascontiguousarray(np.minimum(q.ravel(), 1e9)), P, _GL_X, _GL_W, out)
     th1 = entry_angle(z, wheel.radius)
-    cr = np.clip(soil.c_exit + soil.c_exit1 * s, 0.0, 1.0)
+    se = slip_total(s, q)
+    cr = np.clip(soil.c_exit + soil.c_exit1 * se, 0.0, 1.0)
     thr = -cr * th1
     a1s = soil.a1 if soil.a1_skid is None else soil.a1_skid
-    thm = np.clip((soil.a0 + np.where(s >= 0, soil.a1, a1s) * s) * th1, thr, th1)
+    thm = np.clip((soil.a0 + np.where(se >= 0, soil.a1, a1s) * se) * th1, thr, th1)
     sh = z.shape
     return {"W": out[:, 0].reshape(sh), "DP": out[:, 1].reshape(sh), "T": out[:, 2].reshape(sh),
             "Fy": out[:, 3].reshape(sh), "theta1": th1, "theta_m": thm, "theta_r": thr}

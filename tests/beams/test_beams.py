@@ -12,9 +12,10 @@ from terrabench.systems.beams import SYSTEM, register
 from terrabench.systems.beams.control import energy_cost
 from terrabench.systems.beams.estimation import (EstimatorConfig, SensingConfig, estimate, nelder_mead_batch,
                                                  sense, sense_clean)
-from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, RobotParams, _quad_form,
-                                            contact_scalar, critical_stiffness, deflection_vec,
-                                            generalized_forces, potential_energy, simulate)
+from terrabench.systems.beams.geometry import _quad_form
+from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, RobotParams, contact_scalar,
+                                            critical_stiffness, deflection_vec, generalized_forces, potential_energy,
+                                            simulate)
 from terrabench.config import override
 from terrabench.systems.beams.config import TrialConfig
 

@@ -7,7 +7,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .model import Beam, BeamLayout, RobotParams, _quad_form, contact_scalar, generalized_forces
+from .contact import contact_scalar, generalized_forces
+from .geometry import Beam, BeamLayout, RobotParams, _quad_form
 from .planning import Plan
 
 

@@ -53,6 +53,8 @@ class CLMConfig:
         tau_filter: per-tick weight of the elbow torque in its free-motion reference while lowering.
         settle_dz, settle_ticks: a landed tip that moves less than settle_dz (m) a tick for
             settle_ticks ticks has settled: it is a support.
+        tilt_contact: the body pitching or rolling this much while an arm lowers = that arm's tip
+            carries load: it has landed (rad).
         stall_dz: a lowering tip this far above its target has landed (stopped following) (m).
         pit_depth: no ground this far below the transfer target: a pit (arm stop case 3) (m).
         reach_max: a foothold farther than this from its arm's mount, horizontally, is out of
@@ -96,6 +98,7 @@ class CLMConfig:
     settle_dz: float = 0.0005
     settle_ticks: int = 5
     stall_dz: float = 0.04
+    tilt_contact: float = 0.01
     pit_depth: float = 0.45
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
     d_c: float = 0.1
@@ -283,6 +286,7 @@ class CLMController:
         self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
         self.tip_z = self.prev_tip_z = np.zeros(4)
         self.low_z = np.zeros(4)
+        self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = np.zeros(4, bool)  # landed, pressing, not yet settled
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
@@ -357,12 +361,14 @@ class CLMController:
             tx, ty, tz = self.targets[k]
             # fast while high above the expected ground, then slow for a soft touch
             self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
-            touched = contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.contact_torque)
+            touched = abs(obs.tau_elbow[i] - self.tau_ref[i]) > cfg.contact_torque
             # blocked: the tip lags its target and has stopped descending (a servo lag alone
             # while the target falls fast is not a contact)
             stopped = self.tip_r[i, 2] - self.prev_tip_z[i] > -0.25 * cfg.lower_dz
             blocked = stopped and self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz
-            if self.t3[i] > 0.2 and (touched or blocked):
+            # or the body tilts while the arm descends: the arm has started to carry it (IMU)
+            tilted = max(abs(obs.pitch - self.att0[0]), abs(obs.roll - self.att0[1])) > cfg.tilt_contact
+            if self.t3[i] > 0.2 and (touched or blocked or tilted):
                 self._land(obs, k, i)
                 return i
             # the free-motion reference follows the slow changes (gravity, servo lag, the IK's
@@ -374,7 +380,14 @@ class CLMController:
         if ph == 2 and new_ph == 3:
             self.tau_ref[i] = obs.tau_elbow[i]
             self.t3[i] = 0.0
-            self.low_z[i] = self.tip_r[i, 2]
+            # the descent starts at the tip's height or lower, where the arm reaches the target
+            # without its boom against its upper stop (a knee-up whip that would look like a stop)
+            tx, ty, tz = self.targets[k]
+            z, lo = float(self.tip_r[i, 2]), self.robot.boom_range[0] + 0.1
+            while z > tz and ak.ik(np.array([tx, ty, z]), self.robot, k)[1] < lo:
+                z -= 0.02
+            self.low_z[i] = z
+            self.att0 = (obs.pitch, obs.roll)
         self.cmd.arm[i] = c
         if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
             self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")

@@ -113,6 +113,14 @@ class RobotConfig:
         arm_torque: (swing, boom, elbow) torque limits (N m); arm_kp position gains (N m/rad).
         arm_damping: joint damping of the arm joints (N m s/rad); roller_damping of the rollers.
         friction: sliding friction of the robot's geoms (tracks, tips).
+        link_friction: sliding friction of the arm links; MuJoCo takes the larger friction of a
+            pair, so the links get priority 1 and their pairs use this value.
+        tip_solref: contact (timeconst, dampratio) of the arm tips (priority 1): stiffer than the
+            default (0.02, 1) so a pressed tip sinks millimetres, not centimetres.
+        joint_speed: joint speed limits (rad/s): servo commands move at most this fast and the
+            servos' velocity gain kv = torque limit / speed limit saturates at it.
+        track_power: drive power limit of each side (W): the crawler speed is cut so that the
+            sampled traction force times the speed stays below it.
     """
 
     pulley_x: float = param(0.2, gt=0, unit="m", doc="main-track pulley centres at +-pulley_x")
@@ -145,6 +153,10 @@ class RobotConfig:
     arm_damping: float = param(20.0, ge=0, unit="N m s/rad", doc="joint damping of the arm joints")
     roller_damping: float = param(0.02, ge=0, unit="N m s/rad", doc="joint damping of the tip rollers")
     friction: float = param(1.0, ge=0, doc="sliding friction of the robot geoms (tracks, tips)")
+    link_friction: float = param(0.3, ge=0, doc="sliding friction of the arm links (boom, forearm); their contacts use it (priority 1)")
+    tip_solref: tuple[float, float] = param((0.008, 1.0), length=2, gt=0, unit="s, -", doc="arm-tip contact time constant and damping ratio (priority 1)")
+    joint_speed: tuple[float, float, float, float] = param((4.4, 4.4, 4.4, 4.4), length=4, gt=0, unit="rad/s", doc="speed limits of (flipper, swing, boom, elbow)")
+    track_power: float = param(300.0, gt=0, unit="W", doc="crawler drive power limit per side (main track + its two flippers)")
 
 
 def _surface(geom, lin=(0.0, 0.0, 0.0), ang=(0.0, 0.0, 0.0)) -> None:
@@ -195,7 +207,8 @@ def add_robot(spec: mujoco.MjSpec, pos: tuple[float, float, float], yaw: float, 
         g = fb.add_geom(name=tip, type=cap, size=[rt, fw / 2, 0], pos=[L, 0, 0], quat=ACROSS, mass=m,
                         rgba=[0.2, 0.2, 0.2, 1], **hit)
         _surface(g, ang=(0, 0, 1e-3))
-        _servo(spec, Names.flipper_joint(k), cfg.flipper_kp, cfg.flipper_torque, cfg.flipper_range)
+        _servo(spec, Names.flipper_joint(k), cfg.flipper_kp, cfg.flipper_torque, cfg.flipper_range,
+               cfg.flipper_torque / cfg.joint_speed[0])
     # arms
     ranges = (cfg.swing_range, cfg.boom_range, cfg.elbow_range)
     for k in ARMS:
@@ -208,14 +221,15 @@ def add_robot(spec: mujoco.MjSpec, pos: tuple[float, float, float], yaw: float, 
         boom = base.add_body(name=Names.arm_body(k, "boom"), pos=[0, 0, 0.04])
         boom.add_joint(name=Names.arm_joint(k, "boom"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[-sy, 0, 0],
                        range=list(cfg.boom_range), limited=True, damping=cfg.arm_damping, armature=0.05)
+        link = {**hit, "friction": [cfg.link_friction, 0.005, 0.0001], "priority": 1}
         boom.add_geom(type=cap, size=[cfg.link_r, 0, 0], fromto=[0, 0, 0, 0, sy * cfg.l1, 0],
-                      mass=cfg.link_mass[0], rgba=[0.3, 0.3, 0.7, 1], **hit)
+                      mass=cfg.link_mass[0], rgba=[0.3, 0.3, 0.7, 1], **link)
         fore = boom.add_body(name=Names.arm_body(k, "fore"), pos=[0, sy * cfg.l1, 0])
         fore.add_joint(name=Names.arm_joint(k, "elbow"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[-sy, 0, 0],
                        range=list(cfg.elbow_range), limited=True, damping=cfg.arm_damping, armature=0.05)
         fore.add_geom(type=cap, size=[cfg.link_r * 0.8, 0, 0],
                       fromto=[0, 0, 0, 0, sy * (cfg.l2 - cfg.tip_r), 0], mass=cfg.link_mass[1],
-                      rgba=[0.35, 0.35, 0.75, 1], **hit)
+                      rgba=[0.35, 0.35, 0.75, 1], **link)
         rx = fore.add_body(name=Names.arm_body(k, "roller_x"), pos=[0, sy * cfg.l2, 0])
         rx.add_joint(name=Names.roller_joint(k, "x"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[1, 0, 0],
                      damping=cfg.roller_damping, armature=0.001)
@@ -227,9 +241,9 @@ def add_robot(spec: mujoco.MjSpec, pos: tuple[float, float, float], yaw: float, 
         ry.add_joint(name=Names.roller_joint(k, "y"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1],
                      damping=cfg.roller_damping, armature=0.001)
         ry.add_geom(name=Names.tip(k), type=sph, size=[cfg.tip_r, 0, 0], mass=cfg.link_mass[2],
-                    rgba=[0.9, 0.2, 0.2, 1], **hit)
-        for j, rng, tq, kp in zip(ARM_JOINTS, ranges, cfg.arm_torque, cfg.arm_kp):
-            _servo(spec, Names.arm_joint(k, j), kp, tq, rng)
+                    rgba=[0.9, 0.2, 0.2, 1], priority=1, solref=list(cfg.tip_solref), **hit)
+        for j, rng, tq, kp, w in zip(ARM_JOINTS, ranges, cfg.arm_torque, cfg.arm_kp, cfg.joint_speed[1:]):
+            _servo(spec, Names.arm_joint(k, j), kp, tq, rng, tq / w)
     # sensors: IMU orientation, encoders of every actuated joint, flipper and elbow torques
     spec.add_sensor(name=Names.IMU, type=mujoco.mjtSensor.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE,
                     objname="imu")
@@ -251,9 +265,11 @@ def torque_joints() -> list[str]:
     return [Names.flipper_joint(k) for k in FLIPPERS] + [Names.arm_joint(k, "elbow") for k in ARMS]
 
 
-def _servo(spec: mujoco.MjSpec, joint: str, kp: float, torque: float, rng: tuple[float, float]) -> None:
+def _servo(spec: mujoco.MjSpec, joint: str, kp: float, torque: float, rng: tuple[float, float], kv: float) -> None:
+    """Position servo with gain ``kp``, velocity gain ``kv`` (at the speed limit the velocity term
+    alone takes the whole ``torque``: a driven or back-driven joint saturates there)."""
     a = spec.add_actuator(name=Names.act(joint), target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-    a.set_to_position(kp=kp)
+    a.set_to_position(kp=kp, kv=kv)
     a.forcelimited = True
     a.forcerange = [-torque, torque]
     a.ctrllimited = True

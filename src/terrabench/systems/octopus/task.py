@@ -25,7 +25,16 @@ from terrabench.terrain import pieces
 from terrabench.terrain.mjcf import GROUND_BIT
 
 COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "tip_contact",
-           "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR")
+           "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR",
+           "margin_all", "quasi", "track_share", "track_power",
+           "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow")
+#: a contact counts in the support polygon if its geom carried this normal force (N) ...
+SUPPORT_LOAD = 20.0
+#: ... within this long (s)
+SUPPORT_MEMORY = 0.5
+#: quasi-static instants: chassis speed (m/s), angular speed (rad/s) and the normal ground load
+#: within this fraction of the weight
+QS_SPEED, QS_RATE, QS_LOAD = 0.15, 0.3, 0.2
 
 
 @dataclass(frozen=True)
@@ -152,6 +161,19 @@ class OctopusTask(TaskBase):
         self._lin_ids, self._rot_ids = self.surf_id[lin], self.surf_id[~lin]
         self._lin_sel = (self.surf_side[lin], self.surf_sign[lin])
         self._rot_sel = (self.surf_side[~lin], self.surf_sign[~lin] / self.surf_r[~lin])
+        # physics limits: servo commands rate-limited to the joint speed limits, crawler power
+        rc = self.cfg.robot
+        w = np.array([rc.joint_speed[0]] * 4 + list(rc.joint_speed[1:]) * 4)
+        self._dq = w * pr.control_period
+        self._ctrl = data.ctrl[self.act].copy()
+        self._side_of = np.full(model.ngeom, -1)
+        self._side_of[self.surf_id] = self.surf_side
+        self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
+        self._loaded_t = np.full(model.ngeom, -np.inf)
+        self._f6 = np.zeros(6)
+        self._track_force = np.zeros(2)
+        self._v = np.zeros(2)
+        self._sample = (float("nan"),) * 5
         self.apply_tracks(np.zeros(2))
         return self.obs
 
@@ -195,12 +217,23 @@ class OctopusTask(TaskBase):
         sv[self._rot_ids, 5] = v[side] * gain
 
     def apply(self, cmd: Command) -> None:
-        self.apply_tracks(cmd.track)
-        self.data.ctrl[self.act[:4]] = cmd.flip
-        self.data.ctrl[self.act[4:]] = cmd.arm.ravel()
+        # crawler power limit: the speed of a side is cut so that its traction force (sampled on
+        # the stored rows) times the speed stays within robot.track_power
+        v = np.asarray(cmd.track, float)
+        f = self._track_force
+        cap = np.where(f > 1e-6, self.cfg.robot.track_power / np.maximum(f, 1e-6), np.inf)
+        self._v = np.clip(v, -cap, cap)
+        self.apply_tracks(self._v)
+        c = self._ctrl
+        c[:4] = cmd.flip
+        c[4:] = cmd.arm.ravel()
+        # joint speed limits: the servo reference moves at most joint_speed x period a tick
+        prev = self.data.ctrl[self.act]
+        np.clip(c, prev - self._dq, prev + self._dq, out=c)
+        self.data.ctrl[self.act] = c
 
     def margin(self) -> float:
-        """Static stability margin (m) from the current contacts (ground truth, evaluation only)."""
+        """Static stability margin (m) over every current ground contact (evaluation only)."""
         d = self.data
         n = d.ncon
         if n == 0:
@@ -213,6 +246,57 @@ class OctopusTask(TaskBase):
         pts = d.contact.pos[:n][sel, :2]
         cog = d.subtree_com[self.chassis, :2]
         return stability_margin(pts, cog)
+
+    def sample(self) -> tuple[float, float, float, float, float]:
+        """Ground-truth figures of the current contacts (evaluation only, on the stored rows):
+        (static margin over the load-filtered support polygon, margin over every contact,
+        quasi-static flag, tracks' share of the normal load, crawler drive power W).
+
+        The support polygon holds the contacts of geoms that carried > SUPPORT_LOAD N within
+        the last SUPPORT_MEMORY s (a grazing or bouncing contact is no support); quasi-static:
+        chassis speed < QS_SPEED m/s, angular speed < QS_RATE rad/s and the normal ground load
+        within QS_LOAD of the weight (no impact, no fling). The traction force of each side is
+        kept for the crawler power limit.
+        """
+        m, d = self.model, self.data
+        n, t = d.ncon, float(d.time)
+        g, side_of, f6 = self.ground, self._side_of, self._f6
+        pts, gs = [], []
+        total = track = 0.0
+        fx = np.zeros(2)
+        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
+        for j in range(n):
+            c = d.contact[j]
+            g1, g2 = c.geom1, c.geom2
+            if g[g1] == g[g2]:
+                continue
+            rg = g2 if g[g1] else g1
+            mujoco.mj_contactForce(m, d, j, f6)
+            fn = f6[0]
+            total += fn
+            if fn > SUPPORT_LOAD:
+                self._loaded_t[rg] = t
+            pts.append(c.pos[:2].copy())
+            gs.append(rg)
+            sd = side_of[rg]
+            if sd >= 0:
+                track += fn
+                fr = c.frame.reshape(3, 3)
+                fx[sd] += abs(f6[1] * (fr[1] @ ax) + f6[2] * (fr[2] @ ax))
+        self._track_force = fx
+        power = float(np.abs(fx * self._v).sum())
+        if not pts:
+            return float("nan"), float("nan"), 0.0, float("nan"), power
+        pts_a = np.array(pts)
+        cog = d.subtree_com[self.chassis, :2]
+        keep = (t - self._loaded_t[np.array(gs)]) <= SUPPORT_MEMORY
+        m_load = stability_margin(pts_a[keep], cog) if keep.any() else float("nan")
+        m_all = stability_margin(pts_a, cog)
+        v = d.qvel[:6]
+        quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
+                 math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
+                 abs(total - self._weight) < QS_LOAD * self._weight)
+        return m_load, m_all, float(quasi), track / total if total > 0 else float("nan"), power
 
     def tip_contacts(self) -> int:
         d = self.data
@@ -229,30 +313,50 @@ class OctopusTask(TaskBase):
         s, lat = self.progress()
         z = float(self.data.xpos[self.chassis, 2])
         if cmd is None or self._row_k % self._row_stride == 0:
-            self._margin, self._tips = self.margin(), float(self.tip_contacts())
+            self._sample, self._tips = self.sample(), float(self.tip_contacts())
         self._row_k += 1
-        m = self._margin
-        te = obs.tau_elbow
+        m_load, m_all, quasi, share, tpow = self._sample
+        te, qa = obs.tau_elbow, obs.q_arm
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
-        return (s, lat, z, obs.roll, obs.pitch, m, mode, mov, self._tips,
-                float(obs.q_flip[:2].mean()), float(obs.q_flip[2:].mean()), te[0], te[1], te[2], te[3])
+        return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
+                float(obs.q_flip[:2].mean()), float(obs.q_flip[2:].mean()), te[0], te[1], te[2], te[3],
+                m_all, quasi, share, tpow, qa[1, 0], qa[1, 1], qa[1, 2], qa[3, 0], qa[3, 1], qa[3, 2])
 
     def power(self, obs: Observation) -> float:
+        """Servo power |tau qdot| summed, plus the crawlers' drive power (traction force x speed,
+        sampled on the stored rows and held between them)."""
         d = self.data
-        return float(np.abs(d.actuator_force * d.actuator_velocity).sum())
+        return float(np.abs(d.actuator_force * d.actuator_velocity).sum()) + self._sample[4]
 
     def metrics(self, log) -> dict[str, float]:
-        roll, pitch, margin, s = log.column("roll"), log.column("pitch"), log.column("margin"), log.column("s")
+        """Extremes of attitude; the static margin (load-filtered polygon) at quasi-static
+        instants and, apart, the dynamic events (runs of non-quasi-static rows whose margin over
+        every contact is negative); the tracks' mean share of the normal load; the crawlers'
+        part of the energy."""
+        roll, pitch, s = log.column("roll"), log.column("pitch"), log.column("s")
         ip, ir = int(np.nanargmax(np.abs(pitch))), int(np.nanargmax(np.abs(roll)))
-        # skip the first second: the robot settles and places its arms; the margin is sampled on
-        # the stored rows (every log period) and held in between
-        k0 = min(int(round(1.0 / log.period)), len(margin) - 1)
-        mm = margin[k0:]
+        # figures on the sampled rows only (every stored row), skipping the first second: the
+        # robot settles and places its arms
+        stride = self._row_stride
+        k0 = min(int(round(1.0 / log.period)), len(s) - 1)
+        idx = np.arange(k0 - k0 % stride + stride, len(s), stride)
+        margin, m_all = log.column("margin")[idx], log.column("margin_all")[idx]
+        quasi = log.column("quasi")[idx] > 0.5
+        share = log.column("track_share")[idx]
+        mq = margin[quasi & np.isfinite(margin)]
+        dyn = (~quasi) & (m_all < 0)
+        events = int(np.sum(dyn[1:] & ~dyn[:-1]) + (dyn[0] if len(dyn) else 0))
+        tp = log.column("track_power")
         return {
             "max_pitch": float(pitch[ip]), "max_roll": float(roll[ir]),
-            "min_margin": float(np.nanmin(mm)) if np.isfinite(mm).any() else float("nan"),
+            "min_margin": float(mq.min()) if len(mq) else float("nan"),
+            "quasi_frac": float(quasi.mean()) if len(quasi) else float("nan"),
+            "dyn_events": float(events),
+            "min_margin_dyn": float(np.nanmin(m_all[~quasi])) if (~quasi).any() and np.isfinite(m_all[~quasi]).any() else float("nan"),
+            "track_share": float(np.nanmean(share)) if np.isfinite(share).any() else float("nan"),
             "progress": float(s[-1] - s[0]), "energy": log.energy,
+            "track_energy": float(np.nansum(tp) * log.period),
         }
 
     def info(self) -> dict:

@@ -7,11 +7,12 @@ Each wheel body's origin is its centre and its local y axis the axle.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 
+from terrabench.sim.physics import PhysicsConfig
 from terrabench.soil.terramechanics import WheelParams
 
 
@@ -21,7 +22,8 @@ class RoverConfig:
         chassis_size: half sizes (m).  chassis_mass: (kg).
         wheelbase: front-to-rear axle distance (m).  track: left-right wheel distance (m).
         axle_drop: axle below the chassis centre (m).  kv: wheel servo gain (N m s/rad).
-        timestep: (s).  friction: wheel-ground friction for the rigid variant.
+        physics: the scene's MuJoCo options (1 ms step; MuJoCo's own solver iterations and
+            collision tolerance).  friction: wheel-ground friction for the rigid variant.
     """
 
     chassis_size: tuple[float, float, float] = (0.5, 0.35, 0.1)
@@ -30,7 +32,8 @@ class RoverConfig:
     track: float = 0.8
     axle_drop: float = 0.15
     kv: float = 200.0
-    timestep: float = 0.001
+    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.001, iterations=100,
+                                                                         ccd_tolerance=1e-6))
     friction: float = 0.8
 
 
@@ -41,8 +44,7 @@ def wheel_name(i: int) -> str:
 def build_rover(wheel: WheelParams, cfg: RoverConfig = RoverConfig(), hfield=None) -> mujoco.MjSpec:
     """Spec of the rover on a plane (or on ``hfield = (h, x, y)``, see terrain.mjcf.add_heightfield)."""
     spec = mujoco.MjSpec()
-    spec.option.timestep = cfg.timestep
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    cfg.physics.apply(spec)
     if hfield is None:
         spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1],
                                 friction=[cfg.friction, 0.005, 0.0001])

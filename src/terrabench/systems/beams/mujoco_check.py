@@ -53,10 +53,13 @@ def build_model(robot: RobotParams, layout: BeamLayout, beams: tuple[Beam, Beam]
     """MjSpec scene: mocap ellipsoid + two spring-hinged plates. Returns the compiled MjModel."""
     import mujoco
 
+    from terrabench.sim.physics import PhysicsConfig
+
     spec = mujoco.MjSpec()
     spec.compiler.degree = False  # joint ranges below are in radians
-    spec.option.gravity = [0.0, 0.0, 0.0]
-    spec.option.timestep = cfg.timestep
+    # no gravity (the analytic check is quasi-static); otherwise MuJoCo's own defaults
+    PhysicsConfig(timestep=cfg.timestep, integrator="euler", gravity=0.0, iterations=100,
+                  ccd_tolerance=1e-6).apply(spec)
     wb = spec.worldbody
     body = wb.add_body(name="robot", mocap=True, pos=[-0.2, 0.0, robot.height])
     body.add_geom(name="robot_geom", type=mujoco.mjtGeom.mjGEOM_ELLIPSOID, size=[robot.a, robot.b, robot.c],

@@ -1,0 +1,68 @@
+"""The fully resolved configuration of one HIT-MRII trial (nested frozen dataclasses)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from terrabench.config import param
+from terrabench.sim.episode import Timing
+from terrabench.sim.physics import PhysicsConfig
+from terrabench.systems.srwmr.constraints import Scales
+from terrabench.systems.srwmr.control import SupervisorConfig
+from terrabench.systems.srwmr.ik import IKLimits
+from terrabench.systems.srwmr.robot import RobotConfig
+from terrabench.systems.srwmr.soils import SOIL_NAMES
+
+
+@dataclass(frozen=True)
+class SoilConfig:
+    """The soil under the wheels (terramechanics forces every physics step).
+
+    ``preset`` empty: the instance's own soil (T1 very loose / loose, the others loose).
+    """
+
+    preset: str = param("", choices=("",) + SOIL_NAMES, doc="soil for every instance ('' = the instance's)")
+    jitter: float = param(0.05, ge=0.0, le=0.3, doc="seeds > 0 scale k_phi and K by 1 +- this (uniform)")
+    k_phi_scale: float = param(1.0, gt=0.2, le=5.0, doc="multiplies the soil's k_phi (study knob)")
+    v_eps: float = param(0.004, gt=0.0, le=0.05, unit="m/s", doc="slip regularising speed of the soil hook")
+    every: int = param(1, ge=1, le=4, doc="soil forces every k-th physics step")
+    refresh: bool = param(True, choices=(True, False), doc="soil forces from the current (not one-step-old) velocities")
+
+
+@dataclass(frozen=True)
+class SceneConfig:
+    """Start pose and terrain pieces."""
+
+    start_jitter: float = param(0.02, ge=0.0, le=0.2, unit="m", doc="seeds > 0 shift the start by up to this")
+    yaw_jitter_deg: float = param(1.0, ge=0.0, le=10.0, unit="deg", doc="seeds > 0 turn the start by up to this")
+    approach: float = param(0.6, ge=0.0, le=5.0, unit="m", doc="front wheels to the slope foot at the start")
+    clearance: float = param(0.25, ge=0.15, le=0.55, unit="m", doc="start ground clearance [S 250 mm, 150-550 tested]")
+
+
+@dataclass(frozen=True)
+class ProtocolConfig:
+    """Clock and stop rules."""
+
+    control_period: float = param(0.01, gt=0.0, le=0.1, unit="s", doc="controller period [S Ts = 0.01 s]")
+    timeout: float = param(0.0, ge=0.0, le=20000.0, unit="s", doc="simulated time limit (0 = the instance's own)")
+    log_period: float = param(0.5, gt=0.0, le=10.0, unit="s", doc="stored series period")
+    check_period: float = param(1.0, gt=0.0, le=10.0, unit="s", doc="slow check period")
+    turn_over: float = param(0.7, gt=0.1, le=1.5, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")
+
+
+@dataclass(frozen=True)
+class SRWMRConfig:
+    """Everything a trial needs besides (method, instance, seed)."""
+
+    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.002, iterations=30))
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    soil: SoilConfig = field(default_factory=SoilConfig)
+    scene: SceneConfig = field(default_factory=SceneConfig)
+    protocol: ProtocolConfig = field(default_factory=ProtocolConfig)
+    supervisor: SupervisorConfig = field(default_factory=SupervisorConfig)
+    limits: IKLimits = field(default_factory=IKLimits)
+    scales: Scales = field(default_factory=Scales)
+
+    def __post_init__(self) -> None:
+        pr = self.protocol
+        Timing(pr.control_period, max(pr.timeout, 1.0), pr.check_period, pr.log_period).substeps(self.physics.timestep)

@@ -1,0 +1,151 @@
+"""Motion constraints MC#1-MC#11 of the HIT-MRII (seed 001 secs. 3-6) as pure functions.
+
+Each constraint is a measure ``m_i`` normalised by its scale ``m_i,max`` to a ratio
+``eta_i = m_i / m_i,max``; motion is within the safety margin while ``eta_i <= kappa_i`` (the
+paper's eq. 35), with one threshold vector ``kappa`` per mode (:data:`THRESHOLDS`): looser for
+the wheel-only modes WRM/WCM, tighter posture limits for the reconfiguring modes (sec. 6). The
+paper's threshold table is lost: the scales and kappa values here are reconstructions
+(docs/assumptions-srwmr.md), except MC#10 (W_diff <= 1100 N SWLM / 1300 N DWLM) and MC#11
+(W_fmr <= 700 N) which the paper states.
+
+MC#1 is a precondition (which wheels may be lifted); MC#2/#3 feasibility; MC#3-#9 enter the
+constraint-saturated IK (:mod:`terrabench.systems.srwmr.ik`) linearised one control step ahead;
+MC#10/#11 are monitored (the supervisor halts on them).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from terrabench.systems.srwmr.robot import WHEELS
+
+#: MC#1: the lift sets the paper allows (single wheels, symmetric pairs, asymmetric pairs)
+ALLOWED_LIFTS = (("c1",), ("c2",), ("c3",), ("c4",), ("c5",), ("c6",), ("c1", "c2"), ("c3", "c4"), ("c5", "c6"),
+                 ("c1", "c4"), ("c2", "c3"), ("c3", "c6"), ("c4", "c5"))
+NAMES = ("MC2", "MC3", "MC4", "MC5", "MC6", "MC7", "MC8", "MC9", "MC10", "MC11")
+INF = math.inf
+
+
+def mc1_check(lifted) -> None:
+    """ValueError naming the allowed lift sets unless ``lifted`` obeys MC#1 (at most two wheels,
+    never front and rear together, at most one per side)."""
+    key = tuple(sorted(lifted))
+    bad = [w for w in key if w not in WHEELS]
+    if bad:
+        raise ValueError(f"lift {'+'.join(key)} names unknown wheel(s) {bad}; valid wheels: {', '.join(WHEELS)}")
+    if key and key not in ALLOWED_LIFTS:
+        allowed = ", ".join("+".join(a) for a in ALLOWED_LIFTS)
+        raise ValueError(f"lift {'+'.join(key)} violates MC#1 (at most two wheels, not front and rear together, "
+                         f"one per side); allowed lifts: {allowed}")
+
+
+def mc1_ok(lifted) -> bool:
+    try:
+        mc1_check(lifted)
+        return True
+    except ValueError:
+        return False
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md).
+
+    Attributes:
+        v2: MC#2 wheel-suspension speed mismatch scale (m/s).
+        wb_min: MC#3 least front-middle axle distance before the wheels touch: 2 r + 50 mm (m).
+        dh: MC#4 left-right hinge-height asymmetry scale (m).
+        dd: MC#5 left-right wheelbase asymmetry scale (m).
+        v_floor: MC#6/#7 speed floor under the ratios (m/s).
+        w_floor: MC#8 yaw-rate floor (rad/s).
+        vz9: MC#9 left-right vertical speed difference scale (m/s).
+        w_diff: MC#10 W_diff scale (N) [S 1100 SWLM / 1300 DWLM]; w_fmr: MC#11 (N) [S 700].
+    """
+
+    v2: float = 0.01
+    wb_min: float = 0.35
+    dh: float = 0.10
+    dd: float = 0.10
+    v_floor: float = 0.005
+    w_floor: float = 0.005
+    vz9: float = 0.01
+    w_diff: float = 1300.0
+    w_fmr: float = 700.0
+
+
+#: kappa per mode, in the order of NAMES (MC2 ... MC11); inf = not enforced in this mode
+THRESHOLDS: dict[str, tuple[float, ...]] = {
+    #        MC2  MC3   MC4  MC5  MC6  MC7  MC8  MC9  MC10  MC11
+    "WRM":  (INF, 0.60, 1.0, 1.0, INF, 0.5, 0.6, 1.0, 1.0, 1.0),
+    "WCM":  (INF, 0.60, 1.0, 1.0, INF, 0.5, 0.6, 1.0, 1.0, 1.0),
+    "RCLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
+    "RCM":  (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
+    "SWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
+    "DWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
+}
+MODES = tuple(THRESHOLDS)
+
+
+def thresholds(mode: str) -> np.ndarray:
+    try:
+        return np.array(THRESHOLDS[mode], float)
+    except KeyError:
+        raise ValueError(f"mode={mode!r} is unknown; valid: {', '.join(MODES)}") from None
+
+
+# ---------------------------------------------------------------------------- ratios
+def eta_wheelbase(wb: np.ndarray, wb0: float, sc: Scales) -> np.ndarray:
+    """MC#3 per side: wheelbase reduction (wb0 - wb) over the admissible reduction (wb0 - wb_min)."""
+    return (wb0 - np.asarray(wb, float)) / (wb0 - sc.wb_min) * ((wb0 - sc.wb_min) / wb0)
+
+
+def eta_roll(h: np.ndarray, sc: Scales) -> float:
+    """MC#4: |h_L - h_R| / dh (hinge-height asymmetry of the sides)."""
+    return abs(float(h[0] - h[1])) / sc.dh
+
+
+def eta_yaw(wb: np.ndarray, sc: Scales) -> float:
+    """MC#5: |wb_L - wb_R| / dd (left-right deflection asymmetry)."""
+    return abs(float(wb[0] - wb[1])) / sc.dd
+
+
+def eta_rocker_vs_side(dx_front: np.ndarray, v_side: np.ndarray, sc: Scales) -> float:
+    """MC#6: the rocker-induced front-wheel speed over the side's commanded speed (max of sides)."""
+    return float(np.max(np.abs(dx_front) / np.maximum(np.abs(v_side), sc.v_floor)))
+
+
+def eta_change(new: float, old: float, floor: float) -> float:
+    """MC#7 / MC#8: |new - old| / max(|old|, floor)."""
+    return abs(new - old) / max(abs(old), floor)
+
+
+def eta_roll_rate(vz: np.ndarray, sc: Scales) -> float:
+    """MC#9: |vz_L - vz_R| / vz9 (vertical speed difference of the sides)."""
+    return abs(float(vz[0] - vz[1])) / sc.vz9
+
+
+def w_diff(loads, grounded=None) -> float:
+    """W_diff = W_max - W_min over the wheels (N)."""
+    w = np.asarray(loads, float)
+    return float(w.max() - w.min())
+
+
+def w_fmr(loads) -> float:
+    """W_fmr = max(W_max - mean, mean - W_min) (N)."""
+    w = np.asarray(loads, float)
+    m = w.mean()
+    return float(max(w.max() - m, m - w.min()))
+
+
+def load_ratios(loads, sc: Scales) -> tuple[float, float]:
+    """(MC#10, MC#11) ratios."""
+    return w_diff(loads) / sc.w_diff, w_fmr(loads) / sc.w_fmr
+
+
+def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
+    """MC#2: largest mismatch between the commanded rim speeds and the speeds the suspension
+    motion requires (m/s), over v2."""
+    return float(np.max(np.abs(np.asarray(v_cmd) - np.asarray(v_kin)))) / sc.v2

@@ -1,0 +1,438 @@
+"""Modes and the supervisor of the HIT-MRII as one controller over the saturated IK.
+
+The scripted *operator* of a scenario is a plan: a list of :class:`Step` (one mode action each).
+Every 10 ms the controller turns the active step into a nominal command ``u_nom = (vx, vy, wz,
+ddelta_L, ddelta_R)``, projects it with :class:`~terrabench.systems.srwmr.ik.SaturatedIK` and
+converts it to steering angles, wheel spins and rocker targets with the inverse kinematics.
+
+Modes (seed 001 sec. 3, Fig. 5):
+
+* ``WRM`` wheel rolling: straight (heading held) or along waypoints (Ackermann: wz = v * curvature).
+* ``WCM`` wheel crabbing: steer every wheel to +-90 deg in place (wheels spun against the offset
+  so they roll, not scrub), roll sideways by ``dy``, steer back.
+* ``RCLM`` chassis lifting: change the closing angle to reach a clearance while the wheels roll
+  as the suspension motion requires (MC#2); ``v`` may be non-zero (lift while driving).
+* ``RCM`` creeping (inchworm): cycles of lift with the front wheels still (the middle and rear
+  wheels roll forward) and lower with the middle/rear wheels still (the front wheels roll).
+
+Supervisor (sec. 7): a constraint ratio reaching its threshold halts the motion and reminds the
+operator; the scripted operator answers after ``reply_s`` (None: never): an answer ends the
+current action (the plan goes on), no answer within ``wait_s`` runs the mode back to its start
+state; two reminders in one mode force that return. WRM switches to RCM when the climbing
+efficiency over ``eff_window`` s drops below ``eff_min`` (10 %); the health monitor halts for
+good when the body slip estimate stays at or above ``health_slip`` (0.96) for ``health_s``.
+Mode changes are :class:`~terrabench.systems.base.Transition` records (``info()["events"]``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from terrabench.systems.base import Transition, events_info
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
+from terrabench.systems.srwmr.kinematics import (
+    delta_for_clearance,
+    inverse_kinematics,
+    rocker_jacobian,
+    wheelbase_front_middle,
+)
+from terrabench.systems.srwmr.robot import RobotConfig
+
+#: ratios the supervisor halts on (index into constraints.NAMES)
+MONITORED = np.array([n in ("MC2", "MC3", "MC4", "MC5", "MC10", "MC11") for n in mc.NAMES])
+MODE_CODE = {"WRM": 0, "WCM": 1, "RCLM": 2, "RCM": 3, "SWLM": 4, "DWLM": 5, "HALT": 6, "REVERSE": 7, "DONE": 8}
+
+
+@dataclass(frozen=True)
+class Step:
+    """One action of the operator's plan.
+
+    Attributes:
+        mode: WRM, WCM, RCLM or RCM.
+        v: forward speed (m/s) (WCM: the sideways speed).
+        dist: WRM/WCM distance (m) (RCLM: ignored).
+        waypoints: WRM path ((x, y), ...) in the start frame; empty = straight ahead.
+        dy: WCM sideways displacement (m) (> 0 to the left).
+        clearance: RCLM target clearance (m).
+        vz: RCLM chassis vertical speed (m/s).
+        cycles: RCM cycles.  amp: RCM closing-angle swing per cycle (rad).
+        auto_rcm: WRM: switch to RCM when the climbing efficiency drops below the threshold.
+        until_x: WRM/RCM: the step ends once the start-frame x passes this (m) (None: dist).
+    """
+
+    mode: str
+    v: float = 0.025
+    dist: float = 1.0
+    waypoints: tuple = ()
+    dy: float = 0.0
+    clearance: float = 0.25
+    vz: float = 0.0036
+    cycles: int = 1
+    amp: float = 0.3
+    auto_rcm: bool = False
+    until_x: float | None = None
+
+
+@dataclass(frozen=True)
+class SupervisorConfig:
+    """Supervisor and scripted-operator settings.
+
+    Attributes:
+        reply_s: the operator answers a reminder after this (s); None: never answers.
+        wait_s: a reminder unanswered this long reverses the mode (s).
+        eff_window: climbing-efficiency window (s).  eff_min: RCM below this efficiency [S 10 %].
+        health_slip: body-slip health limit [S 0.96].  health_s: held this long (s).
+        slip_tau: time constant of the body-slip estimate (s).
+        steer_tol: steering error below which wheels roll (rad).
+    """
+
+    reply_s: float | None = 2.0
+    wait_s: float = 10.0
+    eff_window: float = 20.0
+    eff_min: float = 0.10
+    health_slip: float = 0.96
+    health_s: float = 5.0
+    slip_tau: float = 5.0
+    steer_tol: float = 0.05
+
+
+@dataclass
+class Command:
+    """What the task applies: steering targets (6,), wheel spins (6,) (rad/s), rocker closing
+    targets (2,) (rad), the executed u (5,), the mode code, ratios (10,), the stop request."""
+
+    steer: np.ndarray
+    spin: np.ndarray
+    delta: np.ndarray
+    u: np.ndarray
+    mode: int = 0
+    ratios: np.ndarray = field(default_factory=lambda: np.zeros(len(mc.NAMES)))
+    stop: str = ""
+    step: int = 0
+
+
+class RoverController:
+    """The scripted operator's plan, executed through the saturated IK with the supervisor."""
+
+    def __init__(self, plan: list[Step], robot: RobotConfig, sup: SupervisorConfig, lim: IKLimits,
+                 sc: mc.Scales, ts: float):
+        for st in plan:
+            if st.mode not in ("WRM", "WCM", "RCLM", "RCM"):
+                raise ValueError(f"mode={st.mode!r} is not implemented; valid: WRM, WCM, RCLM, RCM")
+        self.plan, self.robot, self.sup, self.lim, self.sc, self.ts = list(plan), robot, sup, lim, sc, ts
+        self.ik = SaturatedIK(robot, lim, sc, ts)
+        self.events: list[Transition] = []
+        self.k = -1
+        self.mode = "START"
+        self.u_prev = np.zeros(5)
+        self.target = None
+        self.origin = None
+        self.reminders: dict[str, int] = {}
+        self.halt_t: float | None = None
+        self.halt_reason = ""
+        self.returning = False
+        self.stop = ""
+        self.sb = 0.0
+        self.hist: list[tuple[float, float, float]] = []  # (t, x_progress, commanded progress)
+        self.cmd_prog = 0.0
+        self.health_t: float | None = None
+
+    # ---------------------------------------------------------------- bookkeeping
+    def info(self) -> dict:
+        out = events_info(self.events)
+        out.update(self.ik.timing())
+        out["reminders"] = dict(self.reminders)
+        return out
+
+    def _enter(self, t: float, mode: str, reason: str) -> None:
+        if mode != self.mode:
+            self.events.append(Transition(t, self.mode, mode, reason))
+            self.mode = mode
+
+    def _next(self, obs, reason: str) -> None:
+        self.k += 1
+        self.phase = 0
+        self.t_phase = obs.t
+        self.returning = False
+        if self.k >= len(self.plan):
+            self._enter(obs.t, "DONE", reason)
+            self.stop = self.stop or "plan complete"
+            return
+        st = self.plan[self.k]
+        self.step_start = (obs.xy.copy(), obs.yaw, obs.delta.copy(), obs.t)
+        self.travelled = 0.0
+        self.cycle = 0
+        self._enter(obs.t, st.mode, reason)
+
+    def _local(self, obs) -> tuple[float, float, float]:
+        """Pose in the start frame (x along the start heading)."""
+        (x0, y0), yaw0 = self.origin
+        dx, dy = obs.xy[0] - x0, obs.xy[1] - y0
+        c, s = math.cos(yaw0), math.sin(yaw0)
+        return c * dx + s * dy, -s * dx + c * dy, obs.yaw - yaw0
+
+    # ---------------------------------------------------------------- the loop
+    def __call__(self, obs) -> Command:
+        if self.target is None:
+            self.target = obs.delta.copy()
+            self.origin = (obs.xy.copy(), obs.yaw)
+            self.mu_cmd = obs.mu.copy()
+            self._next(obs, "plan start")
+        ts = self.ts
+        u_nom = np.zeros(5)
+        steer_only = False
+        lifted = ()
+        if self.stop:
+            return self._command(obs, np.zeros(5), hold=True)
+        # supervisor: an active halt waits for the operator
+        if self.halt_t is not None:
+            waited = obs.t - self.halt_t
+            rep = self.sup.reply_s
+            if rep is not None and waited >= rep:
+                self.halt_t = None
+                self.events.append(Transition(obs.t, "HALT", self.plan[self.k].mode, "operator replied: action ended"))
+                self.mode = self.plan[self.k].mode
+                self._next(obs, "operator: next action")
+                return self._command(obs, np.zeros(5), hold=True)
+            if waited >= self.sup.wait_s or self.returning:
+                if not self.returning:
+                    self.returning = True
+                    self.events.append(Transition(obs.t, "HALT", "REVERSE", "no reply: mode reversed to its start"))
+                    self.mode = "REVERSE"
+                return self._reverse(obs)
+            return self._command(obs, np.zeros(5), hold=True)
+        st = self.plan[self.k]
+        x, y, dyaw = self._local(obs)
+        # --- nominal command of the step
+        if st.mode == "WRM":
+            u_nom, done = self._wrm(obs, st, x, y, dyaw)
+        elif st.mode == "WCM":
+            u_nom, done, steer_only = self._wcm(obs, st)
+        elif st.mode == "RCLM":
+            u_nom, done = self._rclm(obs, st)
+        else:
+            u_nom, done = self._rcm(obs, st, x)
+        if done:
+            self._next(obs, f"{st.mode} action complete")
+            return self._command(obs, np.zeros(5), hold=True)
+        # --- body-slip estimate, health monitor, climbing efficiency
+        v_cmd = float(self.u_prev[0])
+        if st.mode == "WRM" and abs(v_cmd) > 1e-4:
+            sb = 1.0 - obs.v_body[0] / v_cmd
+            a = ts / self.sup.slip_tau
+            self.sb += a * (sb - self.sb)
+            if self.sb >= self.sup.health_slip:
+                self.health_t = self.health_t if self.health_t is not None else obs.t
+                if obs.t - self.health_t >= self.sup.health_s:
+                    self.events.append(Transition(obs.t, self.mode, "HALT", f"health monitor: body slip {self.sb:.2f} >= {self.sup.health_slip}"))
+                    self.mode = "HALT"
+                    self.stop = f"health halt: body slip {self.sb:.2f} >= {self.sup.health_slip}"
+                    return self._command(obs, np.zeros(5), hold=True)
+            else:
+                self.health_t = None
+            self.cmd_prog += v_cmd * ts
+            self.hist.append((obs.t, x, self.cmd_prog))
+            if st.auto_rcm and obs.t - self.hist[0][0] >= self.sup.eff_window:
+                while self.hist and obs.t - self.hist[0][0] > self.sup.eff_window:
+                    self.hist.pop(0)
+                t0, x0, c0 = self.hist[0]
+                eff = (x - x0) / max(self.cmd_prog - c0, 1e-6)
+                if eff < self.sup.eff_min:
+                    self.plan.insert(self.k + 1, Step("RCM", v=st.v, cycles=999, amp=0.3, until_x=st.until_x))
+                    self.hist.clear()
+                    self._next(obs, f"climbing efficiency {eff:.0%} < {self.sup.eff_min:.0%}")
+                    return self._command(obs, np.zeros(5), hold=True)
+        # --- constraint-saturated IK
+        kappa = mc.thresholds(st.mode)
+        J = rocker_jacobian(self.robot, obs.delta)
+        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa, J)
+        if u is None:
+            return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
+        ratios = self._ratios(obs, u, J)
+        # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
+        # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
+        over = np.where(MONITORED, ratios / kappa, 0.0)
+        if np.any(over >= 1.0):
+            i = int(np.argmax(over))
+            return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
+        return self._command(obs, u, steer_only=steer_only, lifted=lifted, ratios=ratios, J=J)
+
+    # ---------------------------------------------------------------- modes
+    def _wrm(self, obs, st: Step, x, y, dyaw):
+        if st.waypoints:
+            pts = np.asarray(st.waypoints, float)
+            i = min(getattr(self, "wp", 0), len(pts) - 1)
+            p = np.array([x, y])
+            while i < len(pts) - 1 and np.linalg.norm(pts[i] - p) < 0.25:
+                i += 1
+            self.wp = i
+            tx, ty = pts[i] - p
+            if i == len(pts) - 1 and math.hypot(tx, ty) < 0.05:
+                self.wp = 0
+                return np.zeros(5), True
+            # pure pursuit: curvature to the look-ahead point in the body frame
+            c, s = math.cos(dyaw), math.sin(dyaw)
+            bx, by = c * tx + s * ty, -s * tx + c * ty
+            L2 = bx * bx + by * by
+            kappa_c = 2 * by / max(L2, 1e-6)
+            kappa_c = max(-1.2, min(1.2, kappa_c))
+            return np.array([st.v, 0.0, st.v * kappa_c, 0.0, 0.0]), False
+        goal = st.until_x if st.until_x is not None else self._start_x() + st.dist
+        if x >= goal:
+            return np.zeros(5), True
+        # hold the start heading and line (small corrections)
+        wz = -0.5 * dyaw - 0.5 * (y - self._start_y()) * 0.2
+        return np.array([st.v, 0.0, max(-0.02, min(0.02, wz)), 0.0, 0.0]), False
+
+    def _start_x(self):
+        (x0, y0), yaw0 = self.origin
+        p = self.step_start[0]
+        return math.cos(yaw0) * (p[0] - x0) + math.sin(yaw0) * (p[1] - y0)
+
+    def _start_y(self):
+        (x0, y0), yaw0 = self.origin
+        p = self.step_start[0]
+        return -math.sin(yaw0) * (p[0] - x0) + math.cos(yaw0) * (p[1] - y0)
+
+    def _wcm(self, obs, st: Step):
+        # phase 0: steer to +-90 in place; 1: roll sideways; 2: steer back to 0
+        sgn = 1.0 if st.dy >= 0 else -1.0
+        if self.phase == 0:
+            self.mu_goal = np.full(6, math.pi / 2 * 0.999)
+            if np.max(np.abs(obs.mu - self.mu_goal)) < self.sup.steer_tol:
+                self.phase, self.y_start = 1, self._local(obs)[1]
+            return np.zeros(5), False, True
+        if self.phase == 1:
+            dy = self._local(obs)[1] - self.y_start
+            if abs(dy) >= abs(st.dy):
+                self.phase = 2
+                return np.zeros(5), False, True
+            return np.array([0.0, sgn * st.v, 0.0, 0.0, 0.0]), False, False
+        self.mu_goal = np.zeros(6)
+        if np.max(np.abs(obs.mu)) < self.sup.steer_tol:
+            self.mu_goal = None
+            return np.zeros(5), True, False
+        return np.zeros(5), False, True
+
+    def _rate_for(self, obs, vz: float, target_delta: float) -> np.ndarray:
+        """Closing rates (2,) lifting the chassis at ``vz`` towards ``target_delta``."""
+        J = rocker_jacobian(self.robot, obs.delta)
+        dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
+        err = target_delta - obs.delta
+        rate = np.sign(err) * abs(vz) / np.maximum(dz, 1e-3)
+        slow = np.minimum(1.0, np.abs(err) / 0.02)
+        return rate * slow
+
+    def _rclm(self, obs, st: Step):
+        if getattr(self, "_td_step", None) != self.k:
+            self._td_step, self._td = self.k, delta_for_clearance(self.robot, st.clearance)
+        td = self._td
+        if np.max(np.abs(obs.delta - td)) < 0.004:
+            return np.zeros(5), True
+        rate = self._rate_for(obs, st.vz, td)
+        return np.array([st.v, 0.0, 0.0, rate[0], rate[1]]), False
+
+    def _rcm(self, obs, st: Step, x):
+        """Inchworm: phase 0 lift (front wheels still), phase 1 lower (middle/rear still)."""
+        if st.until_x is not None and x >= st.until_x:
+            return np.zeros(5), True
+        d0 = self.step_start[2]
+        base = float(np.mean(d0))
+        hi = base + st.amp
+        J = rocker_jacobian(self.robot, obs.delta)
+        if self.phase == 0:
+            if np.min(obs.delta) >= hi - 0.004:
+                self.phase = 1
+            rate = self._rate_for(obs, st.vz * 2, hi)
+            # the front wheels stay where they are: v_b = -J_front,x * rate
+            vx = -float(np.mean(J[0:2, 0] * rate))
+        else:
+            if np.max(obs.delta) <= base + 0.004:
+                self.phase = 0
+                self.cycle += 1
+                if self.cycle >= st.cycles:
+                    return np.zeros(5), True
+            rate = self._rate_for(obs, st.vz * 2, base)
+            vx = -float(np.mean(J[2:6, 0] * np.repeat(rate, 2)))
+        return np.array([vx, 0.0, 0.0, rate[0], rate[1]]), False
+
+    # ---------------------------------------------------------------- supervisor actions
+    def _halt(self, obs, reason: str) -> Command:
+        mode = self.plan[self.k].mode
+        n = self.reminders.get(mode, 0) + 1
+        self.reminders[mode] = n
+        self.events.append(Transition(obs.t, mode, "HALT", f"reminder {n}: {reason}"))
+        self.mode = "HALT"
+        self.halt_t = obs.t
+        if n >= 2:
+            self.returning = True
+            self.events.append(Transition(obs.t, "HALT", "REVERSE", "second reminder in this mode: forced return"))
+            self.mode = "REVERSE"
+        return self._command(obs, np.zeros(5), hold=True)
+
+    def _reverse(self, obs) -> Command:
+        """Run the suspension back to the step's start angles (wheels coordinated), then go on."""
+        d0 = self.step_start[2]
+        if np.max(np.abs(obs.delta - d0)) < 0.004:
+            self.halt_t = None
+            self.returning = False
+            self.events.append(Transition(obs.t, "REVERSE", self.plan[self.k].mode, "back at the start state"))
+            self.mode = self.plan[self.k].mode
+            self._next(obs, "after return")
+            return self._command(obs, np.zeros(5), hold=True)
+        rate = self._rate_for(obs, 0.0036, float(np.mean(d0)))
+        return self._command(obs, np.array([0.0, 0.0, 0.0, rate[0], rate[1]]))
+
+    # ---------------------------------------------------------------- output
+    def _ratios(self, obs, u, J) -> np.ndarray:
+        r = np.zeros(len(mc.NAMES))
+        sc = self.sc
+        wb = wheelbase_front_middle(self.robot, obs.delta)
+        dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
+        # MC2: measured rim speeds of the grounded wheels against the kinematics of the measured rates
+        if np.any(np.abs(obs.ddelta) > 1e-4) and hasattr(self, "_rim_cmd"):
+            side = np.array([0, 1, 0, 1, 0, 1])
+            v_kin = self.u_prev[0] + J[:, 0] * obs.ddelta[side]
+            r[0] = mc.mc2_ratio(self._rim_cmd * np.cos(obs.mu), v_kin, sc)
+        r[1] = float(np.max((self.robot.front_len - wb) / self.robot.front_len))
+        r[2] = mc.eta_roll(dz * obs.delta, sc)
+        r[3] = mc.eta_yaw(wb, sc)
+        half = self.robot.track / 2
+        v_side = np.array([u[0] - u[2] * half, u[0] + u[2] * half])
+        r[4] = mc.eta_rocker_vs_side(J[0:2, 0] * u[3:5], v_side, sc) if np.any(u[3:5]) else 0.0
+        r[5] = mc.eta_change(u[0], self.u_prev[0], sc.v_floor)
+        r[6] = mc.eta_change(u[2], self.u_prev[2], sc.w_floor)
+        r[7] = mc.eta_roll_rate(dz * u[3:5], sc)
+        r[8], r[9] = mc.load_ratios(obs.load, sc)
+        return r
+
+    def _command(self, obs, u, *, hold: bool = False, steer_only: bool = False, lifted=(), ratios=None,
+                 J=None) -> Command:
+        ts = self.ts
+        goal = getattr(self, "mu_goal", None)
+        if goal is not None and (steer_only or self.plan[min(self.k, len(self.plan) - 1)].mode == "WCM"):
+            # steering in place (WCM): rate-limited targets, wheels spun against the offset
+            step = np.clip(goal - self.mu_cmd, -0.3 * ts, 0.3 * ts)
+            mu_rate = step / ts
+            self.mu_cmd = self.mu_cmd + step
+            if steer_only:
+                spin = -self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
+                self._rim_cmd = spin * self.robot.wheel_radius
+                self.u_prev = np.zeros(5)
+                return Command(self.mu_cmd.copy(), spin, self.target.copy(), np.zeros(5), MODE_CODE.get(self.mode, 9),
+                               np.zeros(len(mc.NAMES)) if ratios is None else ratios, self.stop, self.k)
+        mu, spin = inverse_kinematics(self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted)
+        # a wheel whose steering is far from its target waits (no rolling against its heading)
+        err = np.abs(mu - obs.mu)
+        if np.max(err) > 0.15 and np.any(np.abs(u[:3]) > 0):
+            spin = spin * 0.0
+        self.mu_cmd = mu
+        self.target = self.target + u[3:5] * ts
+        self._rim_cmd = spin * self.robot.wheel_radius
+        self.u_prev = np.asarray(u, float).copy()
+        return Command(mu.copy(), spin, self.target.copy(), self.u_prev.copy(), MODE_CODE.get(self.mode, 9),
+                       np.zeros(len(mc.NAMES)) if ratios is None else ratios, self.stop, self.k)

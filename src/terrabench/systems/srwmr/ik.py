@@ -1,0 +1,139 @@
+"""Constraint-saturated inverse kinematics (the paper's eq. 41, lost; reconstructed).
+
+Every control period (10 ms) the nominal command ``u_nom = (vx, vy, wz, ddelta_L, ddelta_R)``
+(body twist in the body frame and the two rocker closing rates) is projected onto the set the
+motion constraints allow one step ahead:
+
+    u* = argmin (u - u_nom)' W (u - u_nom)   s.t.   G u <= h,   lb <= u <= ub
+
+with the linearised MC#3 (wheelbase reduction), MC#4 (roll asymmetry), MC#5 (yaw deflection
+asymmetry), MC#6 (rocker rate against the side speed), MC#7 (forward-speed change), MC#8
+(yaw-rate change) and MC#9 (roll rate), 16 rows, and the speed/rate bounds. Solved with DAQP
+through ``qpsolvers``; infeasible (no u in the set) means halt. The wheel commands then follow
+from :func:`terrabench.systems.srwmr.kinematics.inverse_kinematics`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import qpsolvers
+
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr.kinematics import rocker_jacobian, wheelbase_front_middle
+from terrabench.systems.srwmr.robot import RobotConfig
+
+N_U = 5
+N_INEQ = 16
+
+
+@dataclass(frozen=True)
+class IKLimits:
+    """Bounds of the command (the robot's drive limits) and the QP weights.
+
+    Attributes:
+        v_max: body speed bound (m/s).  w_max: yaw-rate bound (rad/s).
+        rate_max: rocker closing-rate bound (rad/s).  weights: diagonal W over u.
+        delta_range: closing angles the rockers may reach (rad).
+    """
+
+    v_max: float = 0.06
+    w_max: float = 0.1
+    rate_max: float = 0.05
+    weights: tuple[float, float, float, float, float] = (1.0, 1.0, 1.0, 4.0, 4.0)
+    delta_range: tuple[float, float] = (-0.45, 1.15)
+
+
+@dataclass
+class IKState:
+    """What the IK needs from the observation: closing angles (2,), previous command (5,)."""
+
+    delta: np.ndarray
+    u_prev: np.ndarray
+
+
+def build_qp(cfg: RobotConfig, st: IKState, kappa: np.ndarray, sc: mc.Scales, lim: IKLimits, ts: float,
+             J: np.ndarray | None = None):
+    """(G, h, lb, ub) of one control step. Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4, MC7 x2, MC8 x2, MC9 x2."""
+    d = st.delta
+    J = rocker_jacobian(cfg, d) if J is None else J
+    wb0 = cfg.front_len  # nominal front-middle distance
+    wb = wheelbase_front_middle(cfg, d)
+    dwb = np.array([J[0, 0] - J[2, 0], J[1, 0] - J[3, 0]])  # d wb / d delta per side
+    dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])  # hinge rise per delta
+    G = np.zeros((N_INEQ, N_U))
+    h = np.zeros(N_INEQ)
+    big = 1e6
+    k2, k3, k4, k5, k6, k7, k8, k9 = (kappa[i] for i in range(8))
+    # MC3: eta_wb(next) = (wb0 - wb - dwb * rate * ts)/wb0 <= k3  ->  -dwb ts/wb0 * rate <= k3 - eta
+    eta = (wb0 - wb) / wb0
+    for s in (0, 1):
+        G[s, 3 + s] = -dwb[s] * ts / wb0
+        h[s] = (k3 - eta[s]) if np.isfinite(k3) else big
+    # MC4: |(hL - hR) + ts(dzL rL - dzR rR)| <= k4 dh  (heights from the symmetric model: dz * delta)
+    hl, hr = dz[0] * d[0], dz[1] * d[1]
+    for j, sg in ((2, 1.0), (3, -1.0)):
+        G[j, 3], G[j, 4] = sg * dz[0] * ts, -sg * dz[1] * ts
+        h[j] = (k4 * sc.dh - sg * (hl - hr)) if np.isfinite(k4) else big
+    # MC5: |(wbL - wbR) + ts(dwbL rL - dwbR rR)| <= k5 dd
+    for j, sg in ((4, 1.0), (5, -1.0)):
+        G[j, 3], G[j, 4] = sg * dwb[0] * ts, -sg * dwb[1] * ts
+        h[j] = (k5 * sc.dd - sg * (wb[0] - wb[1])) if np.isfinite(k5) else big
+    # MC6: |J_front,x rate_s| <= k6 max(|v_side_prev|, v_floor), both signs per side
+    half = cfg.track / 2
+    v_side = np.array([st.u_prev[0] - st.u_prev[2] * half, st.u_prev[0] + st.u_prev[2] * half])
+    for s in (0, 1):
+        lim6 = k6 * max(abs(v_side[s]), sc.v_floor) if np.isfinite(k6) else big
+        G[6 + 2 * s, 3 + s], G[7 + 2 * s, 3 + s] = J[s, 0], -J[s, 0]
+        h[6 + 2 * s] = h[7 + 2 * s] = lim6
+    # MC7 / MC8: change of vx and wz per step
+    lim7 = k7 * max(abs(st.u_prev[0]), sc.v_floor) if np.isfinite(k7) else big
+    lim8 = k8 * max(abs(st.u_prev[2]), sc.w_floor) if np.isfinite(k8) else big
+    G[10, 0], h[10] = 1.0, st.u_prev[0] + lim7
+    G[11, 0], h[11] = -1.0, -st.u_prev[0] + lim7
+    G[12, 2], h[12] = 1.0, st.u_prev[2] + lim8
+    G[13, 2], h[13] = -1.0, -st.u_prev[2] + lim8
+    # MC9: |dzL rL - dzR rR| <= k9 vz9
+    lim9 = k9 * sc.vz9 if np.isfinite(k9) else big
+    G[14, 3], G[14, 4], h[14] = dz[0], -dz[1], lim9
+    G[15, 3], G[15, 4], h[15] = -dz[0], dz[1], lim9
+    lb = np.array([-lim.v_max, -lim.v_max, -lim.w_max, -lim.rate_max, -lim.rate_max])
+    ub = -lb
+    # the rocker range: do not step past it
+    lb[3:] = np.maximum(lb[3:], (lim.delta_range[0] - d) / ts)
+    ub[3:] = np.minimum(ub[3:], (lim.delta_range[1] - d) / ts)
+    return G, h, lb, ub
+
+
+class SaturatedIK:
+    """The per-step projection; keeps solve-time statistics (``times`` in seconds)."""
+
+    def __init__(self, cfg: RobotConfig, lim: IKLimits, sc: mc.Scales, ts: float, solver: str = "daqp"):
+        self.cfg, self.lim, self.sc, self.ts, self.solver = cfg, lim, sc, ts, solver
+        self.P = np.diag(np.asarray(lim.weights, float))
+        self.times: list[float] = []
+        self.active = 0  # steps where the projection changed the command
+
+    def solve(self, u_nom: np.ndarray, st: IKState, kappa: np.ndarray, J: np.ndarray | None = None) -> np.ndarray | None:
+        """u* or None when infeasible (``J``: the rocker Jacobian at ``st.delta`` if already known)."""
+        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J)
+        if np.any(lb > ub + 1e-12):
+            return None
+        q = -self.P @ u_nom
+        t0 = time.perf_counter()
+        u = qpsolvers.solve_qp(self.P, q, G, h, lb=lb, ub=ub, solver=self.solver)
+        self.times.append(time.perf_counter() - t0)
+        if u is None:
+            return None
+        if np.max(np.abs(u - u_nom)) > 1e-9:
+            self.active += 1
+        return np.asarray(u, float)
+
+    def timing(self) -> dict[str, float]:
+        t = np.asarray(self.times) * 1e6
+        if not len(t):
+            return {"qp_n": 0, "qp_median_us": float("nan"), "qp_p99_us": float("nan")}
+        return {"qp_n": len(t), "qp_median_us": float(np.median(t)), "qp_p99_us": float(np.percentile(t, 99)),
+                "qp_active_share": self.active / len(t)}

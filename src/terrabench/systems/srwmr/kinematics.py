@@ -1,0 +1,234 @@
+"""HIT-MRII kinematics in the body frame (pure numpy; no simulator).
+
+Body frame: origin at the chassis centre (CoM), x forward, y left, z up. Per side the closing
+angle ``delta`` (= -q_rocker, >= 0 lifts the chassis) turns the rear section down by delta and,
+through the angle-adjusting gear, the front section down by ``z * delta``; ``phi`` is the
+differential joint (both sections of a side turn with it); ``zeta`` the passive bogie angle;
+``mu`` the steering angles (c1..c6). Rotations about +y follow MuJoCo:
+``(x, z) -> (x cos q + z sin q, -x sin q + z cos q)``.
+
+* :func:`axle_positions` - the six axle centres (the 3-D chain body -> differential -> hinge ->
+  bogie -> pillar -> axle).
+* :func:`contact_points` - axle minus r along body z (flat ground under a level body).
+* :func:`rocker_jacobian` - d(axle)/d(delta) per side (numerical, central difference).
+* :func:`wheel_velocities` - horizontal velocity each wheel's contact must have (body frame) for
+  a body twist (vx, vy, wz) and the rocker rates: ``v_i = v_b + w_b x c_i + J_i ddelta``.
+* :func:`inverse_kinematics` - steering angles and spin rates that roll every grounded wheel
+  without slip at those velocities (Ackermann / crab / differential follow from the twist), with
+  the offset-wheel term ``-e mu_dot / r`` while steering.
+* :func:`forward_kinematics` - the body twist that best explains measured wheel spins and
+  steering angles (least squares; the inverse of the above for grounded wheels).
+* :func:`lift_height` - height of a lifted wheel as a function of the rocker-angle change
+  (the paper's eqs. 8-10, lost; rigid-link four-bar geometry on flat ground with the clutch
+  engaged).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
+
+_SIDE_IDX = np.array([0 if s == "L" else 1 for s in WHEEL_SIDE])
+_SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
+
+
+def _rot(x, z, q):
+    c, s = np.cos(q), np.sin(q)
+    return x * c + z * s, -x * s + z * c
+
+
+def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=None) -> np.ndarray:
+    """(6, 3) axle centres in the body frame for per-side ``delta``, ``zeta``, ``phi`` (rad)."""
+    delta, zeta, phi = np.asarray(delta, float), np.asarray(zeta, float), np.asarray(phi, float)
+    mu = np.zeros(6) if mu is None else np.asarray(mu, float)
+    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
+    th0 = cfg.theta_s20
+    e = cfg.wheel_offset * _SIGN
+    lat = cfg.steer_y - cfg.hinge_track / 2
+    out = np.empty((6, 3))
+    for k, s in enumerate((0, 1)):
+        yh = (1 if s == 0 else -1) * cfg.hinge_track / 2
+        # rear section: q = -delta + phi; pivot then bogie (q + zeta)
+        qr = -delta[s] + phi[s]
+        px, pz = _rot(-b * math.cos(th0), -b * math.sin(th0), qr)
+        qb = qr + zeta[s]
+        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
+            # pillar top at (xb, 0) in the bogie frame; axle at (0, -Lp) in the pillar frame
+            # plus the steering-turned offset (-e sin mu, e cos mu)
+            ox, oy = -e[wi] * math.sin(mu[wi]), e[wi] * math.cos(mu[wi])
+            tx, tz = _rot(xb + ox, -cfg.pillar_rear, qb)
+            out[wi] = (px + tx, yh + (1 if s == 0 else -1) * lat + oy, pz + tz)
+        qf = z * delta[s] + phi[s]
+        wi = s
+        ox, oy = -e[wi] * math.sin(mu[wi]), e[wi] * math.cos(mu[wi])
+        fx, fz = _rot(a + ox, -cfg.pillar_front, qf)
+        out[wi] = (fx, yh + (1 if s == 0 else -1) * lat + oy, fz)
+    return out
+
+
+def contact_points(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=None) -> np.ndarray:
+    """(6, 3) wheel-ground contact points in the body frame (axle - r z_b)."""
+    p = axle_positions(cfg, delta, zeta, phi, mu)
+    p[:, 2] -= cfg.wheel_radius
+    return p
+
+
+def level_zeta(cfg: RobotConfig, delta) -> np.ndarray:
+    """Bogie angles that keep the middle and rear axles level (flat ground) for ``delta``."""
+    return np.asarray(delta, float).copy()  # the bogie turns back by what the rear section turned
+
+
+def rocker_jacobian(cfg: RobotConfig, delta, phi=(0.0, 0.0), mu=None, h: float = 1e-5) -> np.ndarray:
+    """(6, 3) d(axle)/d(delta_side) of each wheel for its own side, the bogie kept level."""
+    delta = np.asarray(delta, float)
+    J = np.empty((6, 3))
+    for s in (0, 1):
+        dp, dm = delta.copy(), delta.copy()
+        dp[s] += h
+        dm[s] -= h
+        pp = axle_positions(cfg, dp, level_zeta(cfg, dp), phi, mu)
+        pm = axle_positions(cfg, dm, level_zeta(cfg, dm), phi, mu)
+        sel = _SIDE_IDX == s
+        J[sel] = ((pp - pm) / (2 * h))[sel]
+    return J
+
+
+def chassis_clearance(cfg: RobotConfig, delta) -> float:
+    """Ground clearance (m) on flat ground for symmetric ``delta`` (mean of the sides), the
+    chassis level: the hinge height above the mean contact height minus the box half height."""
+    c = contact_points(cfg, delta, level_zeta(cfg, delta))
+    return float(-c[:, 2].mean() - cfg.chassis_size[2])
+
+
+def delta_for_clearance(cfg: RobotConfig, clearance: float) -> float:
+    """The symmetric closing angle giving ``clearance`` (m) (bisection on [-0.5, 1.2] rad)."""
+    lo, hi = -0.5, 1.2
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if chassis_clearance(cfg, [mid, mid]) < clearance:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def clearance_range(cfg: RobotConfig) -> tuple[float, float]:
+    """Smallest and largest clearance (m) the rocker range reaches."""
+    lo, hi = cfg.rocker_range
+    return chassis_clearance(cfg, [-hi, -hi]), chassis_clearance(cfg, [-lo, -lo])
+
+
+def wheelbase_front_middle(cfg: RobotConfig, delta) -> np.ndarray:
+    """(2,) horizontal front-to-middle axle distance per side (m) (the wheelbase d_wl/2)."""
+    p = axle_positions(cfg, delta, level_zeta(cfg, delta))
+    return np.array([p[0, 0] - p[2, 0], p[1, 0] - p[3, 0]])
+
+
+def wheel_velocities(cfg: RobotConfig, u, delta, mu=None) -> np.ndarray:
+    """(6, 2) horizontal contact velocities (body frame) required by ``u = (vx, vy, wz,
+    ddelta_L, ddelta_R)`` so that no wheel slips: v_b + w x c_i + J_i ddelta."""
+    u = np.asarray(u, float)
+    c = contact_points(cfg, delta, level_zeta(cfg, delta), mu=mu)
+    J = rocker_jacobian(cfg, delta, mu=mu)
+    rate = u[3:5][_SIDE_IDX]
+    v = np.empty((6, 2))
+    v[:, 0] = u[0] - u[2] * c[:, 1] + J[:, 0] * rate
+    v[:, 1] = u[1] + u[2] * c[:, 0]
+    return v
+
+
+def wheel_velocity_matrix(cfg: RobotConfig, delta, mu=None) -> np.ndarray:
+    """(12, 5) linear map ``u -> vec(wheel_velocities)`` (rows x0, y0, x1, y1, ...)."""
+    c = contact_points(cfg, delta, level_zeta(cfg, delta), mu=mu)
+    J = rocker_jacobian(cfg, delta, mu=mu)
+    M = np.zeros((12, 5))
+    M[0::2, 0] = 1.0
+    M[0::2, 2] = -c[:, 1]
+    M[1::2, 1] = 1.0
+    M[1::2, 2] = c[:, 0]
+    for i in range(6):
+        M[2 * i, 3 + _SIDE_IDX[i]] = J[i, 0]
+    return M
+
+
+def steer_and_spin(v: np.ndarray, r: float, mu_prev=None, v_min: float = 1e-6):
+    """Steering angle in [-pi/2, pi/2] and spin (rad/s) rolling each wheel at ``v`` (6, 2).
+
+    A wheel with no required velocity keeps ``mu_prev``. Angles past +-90 deg are folded by
+    reversing the spin, so crabbing sideways is +-90 deg either way.
+    """
+    mu_prev = np.zeros(len(v)) if mu_prev is None else np.asarray(mu_prev, float)
+    speed = np.hypot(v[:, 0], v[:, 1])
+    ang = np.arctan2(v[:, 1], v[:, 0])
+    flip = np.abs(ang) > math.pi / 2 + 1e-9
+    ang = np.where(flip, ang - np.sign(ang) * math.pi, ang)
+    spin = np.where(flip, -speed, speed) / r
+    still = speed < v_min
+    return np.where(still, mu_prev, ang), np.where(still, 0.0, spin)
+
+
+def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=()):
+    """Steering angles (6,) and spin rates (6,) (rad/s) for ``u``; lifted wheels get 0 spin.
+
+    ``mu_rate`` (6,) adds the offset-wheel term: turning the steering axis by mu_dot moves the
+    contact point backwards along the heading by e mu_dot, rolled out by -e mu_dot / r.
+    """
+    v = wheel_velocities(cfg, u, delta, mu=mu_prev)
+    mu, spin = steer_and_spin(v, cfg.wheel_radius, mu_prev)
+    if mu_rate is not None:
+        spin = spin - cfg.wheel_offset * np.asarray(mu_rate, float) / cfg.wheel_radius
+    for i in lifted:
+        spin[i] = 0.0
+    return mu, spin
+
+
+def forward_kinematics(cfg: RobotConfig, spin, mu, delta, ddelta=(0.0, 0.0), grounded=None) -> np.ndarray:
+    """Body twist (vx, vy, wz) explaining wheel spins (rad/s) and steering angles (rad) of the
+    grounded wheels, rolling without slip, given the rocker rates (least squares)."""
+    spin, mu = np.asarray(spin, float), np.asarray(mu, float)
+    g = np.ones(6, bool) if grounded is None else np.asarray(grounded, bool)
+    M = wheel_velocity_matrix(cfg, delta, mu=mu)
+    rim = cfg.wheel_radius * spin
+    rhs = np.empty(12)
+    rhs[0::2] = rim * np.cos(mu)
+    rhs[1::2] = rim * np.sin(mu)
+    rhs -= M[:, 3:] @ np.asarray(ddelta, float)
+    rows = np.repeat(g, 2)
+    sol, *_ = np.linalg.lstsq(M[rows, :3], rhs[rows], rcond=None)
+    return sol
+
+
+def _side_profile(cfg: RobotConfig, delta: float, zeta: float):
+    """Side-plane (x, z) of the three axles of one side (hinge at the origin), sections turned."""
+    p = axle_positions(cfg, [delta, delta], [zeta, zeta])
+    return p[[0, 2, 4]][:, [0, 2]]
+
+
+def lift_height(cfg: RobotConfig, which: str, d_delta: float, delta0: float = 0.0) -> float:
+    """Height (m) a ``front``/``middle``/``rear`` wheel rises off flat ground when the closing
+    angle changes by ``d_delta`` from ``delta0`` with the clutch engaged (bogie locked level at
+    the start) and the other two wheels of the side kept on the ground (the hinge and the side
+    move as a rigid four-bar: the two grounded axles stay at axle height).
+
+    Lifting the front wheel needs the hinge to open (d_delta < 0), the rear one to close
+    (d_delta > 0), as the paper's SWLM does (theta_s2 reduced for front/middle, increased for rear).
+    """
+    idx = {"front": 0, "middle": 1, "rear": 2}
+    if which not in idx:
+        raise ValueError(f"which={which!r} is unknown; valid: front, middle, rear")
+    zeta0 = float(level_zeta(cfg, [delta0, delta0])[0])
+    # with the clutch engaged the bogie keeps its angle relative to the rear section
+    pts = _side_profile(cfg, delta0 + d_delta, zeta0)
+    ground = [i for i in range(3) if i != idx[which]]
+    a, b = pts[ground[0]], pts[ground[1]]
+    # rigid motion (rotation in the side plane) putting both grounded axles at one height
+    ang = math.atan2(b[1] - a[1], b[0] - a[0])
+    ang0 = 0.0 if b[0] > a[0] else math.pi
+    rot = ang0 - ang
+    c, s = math.cos(rot), math.sin(rot)
+    rel = pts - a
+    zs = rel[:, 0] * s + rel[:, 1] * c
+    return float(zs[idx[which]] - zs[ground[0]])

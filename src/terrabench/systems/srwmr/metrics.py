@@ -1,0 +1,99 @@
+"""Figures of a HIT-MRII episode as pure functions of arrays (seed 001 sec. 8.4-8.5).
+
+* body slip ``s_b = 1 - v_b / v_cmd`` (the paper's robot slip), time-aggregated as
+  ``1 - sum(v) / sum(v_cmd)`` over the instants with a commanded speed;
+* wheel slip ``s = (r w - v) / (r w)`` (mean of the wheels, from the soil model);
+* drawbar-pull coefficient ``PC = F_DP / F_N``;
+* traction efficiency ``PE = F_DP v / P_drive`` (the paper's eq. 43 form, DP v over T w);
+* energy (J) as the integral of the actuators' |tau w|;
+* wheel-load figures ``W_diff = W_max - W_min``, ``W_fmr = max(W_max - mean, mean - W_min)``;
+* constraint ratios: their maxima over the episode.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr.robot import WHEELS
+
+
+def body_slip(v, v_cmd, v_min: float = 1e-4) -> float:
+    """1 - sum(v)/sum(v_cmd) over the instants with |v_cmd| > v_min (nan if none)."""
+    v, vc = np.asarray(v, float), np.asarray(v_cmd, float)
+    sel = np.isfinite(vc) & (np.abs(vc) > v_min) & np.isfinite(v)
+    if not sel.any():
+        return float("nan")
+    return float(1.0 - v[sel].sum() / vc[sel].sum())
+
+
+def body_slip_series(v, v_cmd, v_min: float = 1e-4):
+    """Instantaneous s_b (nan where nothing is commanded)."""
+    v, vc = np.asarray(v, float), np.asarray(v_cmd, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(np.abs(vc) > v_min, 1.0 - v / vc, np.nan)
+
+
+def drawbar_coefficient(dp, fn) -> float:
+    """PC = sum F_DP / sum F_N (nan if no load)."""
+    fn = float(np.nansum(fn))
+    return float(np.nansum(dp)) / fn if fn > 0 else float("nan")
+
+
+def traction_efficiency(dp, v, p_drive) -> float:
+    """PE = sum(DP v) / sum(P_drive) (nan if no drive power)."""
+    dp, v, p = (np.asarray(a, float) for a in (dp, v, p_drive))
+    sel = np.isfinite(dp) & np.isfinite(v) & np.isfinite(p)
+    den = p[sel].sum()
+    return float((dp[sel] * v[sel]).sum() / den) if den > 0 else float("nan")
+
+
+def energy(power, dt: float) -> float:
+    """Integral of power (W) sampled every ``dt`` (s), J."""
+    return float(np.nansum(np.asarray(power, float)) * dt)
+
+
+def load_figures(loads) -> tuple[np.ndarray, np.ndarray]:
+    """Per-instant W_diff and W_fmr (N) of a (n, 6) load series."""
+    w = np.asarray(loads, float)
+    m = w.mean(axis=1)
+    return w.max(axis=1) - w.min(axis=1), np.maximum(w.max(axis=1) - m, m - w.min(axis=1))
+
+
+def path_length(x, y) -> float:
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    return float(np.sum(np.hypot(np.diff(x), np.diff(y))))
+
+
+def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
+    """The named figures of a finished episode log (columns of :mod:`terrabench.systems.srwmr.task`)."""
+    col = log.column
+    x, y, z = col("x"), col("y"), col("z")
+    v, vc = col("v"), col("v_cmd")
+    W = log.block([f"W_{c}" for c in WHEELS])
+    wd, wf = load_figures(W)
+    moving = np.isfinite(vc) & (np.abs(vc) > 1e-4)
+    slip = col("slip")
+    out = {
+        "distance": path_length(x, y), "progress": float(x[-1] - x_start), "climb": float(z[-1] - z_start),
+        "energy_kJ": log.energy / 1000.0, "body_slip": body_slip(v, vc),
+        "wheel_slip": float(np.nanmean(slip[moving])) if moving.any() else float("nan"),
+        "sinkage": float(np.nanmean(col("sinkage"))),
+        "W_mean": float(np.nanmean(W)), "W_diff_max": float(np.nanmax(wd)), "W_fmr_max": float(np.nanmax(wf)),
+        "PC": drawbar_coefficient(col("DP")[moving], W.sum(axis=1)[moving]) if moving.any() else float("nan"),
+        "PE": traction_efficiency(col("DP")[moving], v[moving], col("P_drive")[moving]) if moving.any() else float("nan"),
+        "mean_power_W": float(np.nanmean(np.diff(log.data[:, -1])) / log.period) if len(log.data) > 1 else float("nan"),
+    }
+    for n in mc.NAMES:
+        e = col(f"eta_{n}")
+        out[f"max_eta_{n}"] = float(np.nanmax(e)) if np.isfinite(e).any() else float("nan")
+    # per plan step (T8 stages): slip, time, energy
+    step = col("step")
+    en = log.data[:, -1]
+    for k in np.unique(step[np.isfinite(step)]).astype(int)[:8]:
+        sel = step == k
+        out[f"step{k}_slip"] = body_slip(v[sel], vc[sel])
+        idx = np.flatnonzero(sel)
+        out[f"step{k}_time"] = float(len(idx) * log.period)
+        out[f"step{k}_energy_kJ"] = float(en[idx[-1]] - en[idx[0]]) / 1000.0 if len(idx) > 1 else 0.0
+    return out

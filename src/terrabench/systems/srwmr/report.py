@@ -1,0 +1,185 @@
+"""HIT-MRII results beside the paper's (seed 001 sec. 8): tables, the T14 CSV, series, timelines."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: the paper's figures [S] (compare trends and orderings; its energy units are inconsistent)
+PAPER = {
+    ("t1-very-loose", "wrm"): "s_b 0.30-0.65",
+    ("t1-loose", "wrm"): "s_b 0.0-0.40",
+    ("t3-rclm", "rclm"): "RCLM 250->330->480->250 mm; MC#3 max 0.326",
+    ("t4-sinkage", "rcm"): "RCM escapes full sinkage (5 RCLM cycles); MC#3 max 0.15",
+    ("t5-slope10", "wrm"): "WRM moved 43.65 of 437.75 mm (10 % efficiency)",
+    ("t5-slope10", "rcm"): "WRM then RCM (4 cycles) climbs 10 deg; s_b ~0.93 in RCM",
+    ("t8-speeds", "wrm"): "s_b 0.18-0.32 at constant speed; EC 11.3/12.2/14/13/11 kJ per stage",
+    ("t11-slope15", "wrm"): "s_b -> 0.96, health halt at 64 s",
+    ("t11-slope15", "rcm"): "RCM holds s_b ~0.44, all wheels on the slope",
+    ("t14-obstacle", "wrm"): "4634 mm, 401 s, 97 kJ",
+    ("t14-obstacle", "wcm"): "3166 mm, 358 s, 77 kJ",
+    ("t14-obstacle", "rclm"): "2800 mm, 249 s, 49 kJ",
+}
+T14_PAPER = {"wrm": (4634, 401, 97), "wcm": (3166, 358, 77), "rclm": (2800, 249, 49), "swlm": (2800, 859, 36)}
+OPERATOR = ("The 'operator' is scripted per scenario: it answers every reminder after supervisor.reply_s "
+            "(default 2 s), which ends the current action; the plan (layouts.py) is the paper's action sequence.")
+
+
+def _mean(rs, key):
+    a = np.array([r["metrics"].get(key, np.nan) for r in rs], float)
+    a = a[np.isfinite(a)]
+    return float(a.mean()) if len(a) else float("nan")
+
+
+def group(rows):
+    out: dict[tuple[str, str], list] = {}
+    for r in rows:
+        out.setdefault((r["instance"], r["method"]), []).append(r)
+    return out
+
+
+def task_lines(rows) -> list[dict[str, Any]]:
+    lines = []
+    for (inst, meth), rs in sorted(group(rows).items()):
+        st: dict[str, int] = {}
+        for r in rs:
+            st[r["status"]] = st.get(r["status"], 0) + 1
+        lines.append({"task": inst, "mode": meth, "n": len(rs), "statuses": ", ".join(f"{k} {v}" for k, v in sorted(st.items())),
+                      "body slip": _mean(rs, "body_slip"), "wheel slip": _mean(rs, "wheel_slip"),
+                      "progress m": _mean(rs, "progress"), "distance m": _mean(rs, "distance"),
+                      "time s": _mean(rs, "sim_time"), "energy kJ": _mean(rs, "energy_kJ"),
+                      "W_diff max N": _mean(rs, "W_diff_max"), "W_fmr max N": _mean(rs, "W_fmr_max"),
+                      "MC3 max": _mean(rs, "max_eta_MC3"), "paper": PAPER.get((inst, meth), "")})
+    return lines
+
+
+def t14_lines(rows) -> list[dict[str, Any]]:
+    g = group([r for r in rows if r["instance"] == "t14-obstacle"])
+    lines = []
+    for meth in ("wrm", "wcm", "rclm", "swlm"):
+        rs = g.get(("t14-obstacle", meth), [])
+        pd, pt, pe = T14_PAPER[meth]
+        lines.append({"mode": meth, "n": len(rs), "success": sum(r["status"] == "success" for r in rs),
+                      "distance mm": 1000 * _mean(rs, "distance") if rs else float("nan"),
+                      "time s": _mean(rs, "sim_time") if rs else float("nan"),
+                      "energy kJ": _mean(rs, "energy_kJ") if rs else float("nan"),
+                      "paper distance mm": pd, "paper time s": pt, "paper energy kJ": pe,
+                      "note": "" if rs else "not run (SWLM not implemented)"})
+    return lines
+
+
+def slope_lines(rows) -> list[dict[str, Any]]:
+    lines = []
+    for (inst, meth), rs in sorted(group([r for r in rows if r["instance"].startswith("slope-")]).items()):
+        _, deg, soil = inst.split("-", 2)
+        lines.append({"soil": soil, "slope deg": int(deg), "mode": meth, "n": len(rs),
+                      "success rate": sum(r["status"] == "success" for r in rs) / len(rs),
+                      "body slip": _mean(rs, "body_slip"), "progress m": _mean(rs, "progress"),
+                      "time s": _mean(rs, "sim_time")})
+    return sorted(lines, key=lambda d: (d["soil"], d["mode"], d["slope deg"]))
+
+
+def summary_table(rows):
+    from rich.table import Table
+
+    t = Table(title="HIT-MRII (srwmr): ours beside the paper")
+    cols = ("task", "mode", "n", "statuses", "body slip", "progress m", "time s", "energy kJ", "paper")
+    for c in cols:
+        t.add_column(c)
+    for ln in task_lines(rows):
+        t.add_row(*[f"{ln[c]:.3f}" if isinstance(ln[c], float) else str(ln[c]) for c in cols])
+    return t
+
+
+def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from terrabench.report.page import Page, provenance_html
+    from terrabench.report.timeline import draw_timelines
+    from terrabench.systems.srwmr.soils import (
+        FIT_K_LOOSE,
+        FIT_K_PHI_VERY_LOOSE,
+        T1_RANGES,
+        TARGETS,
+    )
+
+    rows = store.rows(system=system)
+    page = Page(out_dir, "HIT-MRII reconfigurable rover (srwmr)")
+    page.p(OPERATOR)
+    page.h2("Soil calibration (the only fit: T1)")
+    page.p(f"very loose: k_phi fitted = {FIT_K_PHI_VERY_LOOSE / 1e3:.1f} kN/m^3 so that the zero-pull slip of a "
+           f"368 N wheel is {TARGETS['very_loose']} (T1 range {T1_RANGES['very_loose']}); loose: K fitted = "
+           f"{FIT_K_LOOSE * 1000:.2f} mm (k_phi 1528 kN/m^3) for {TARGETS['loose']} (T1 range {T1_RANGES['loose']}). "
+           "Every other task is a prediction.")
+    task_rows = [r for r in rows if not r["instance"].startswith("slope-")]
+    lines = task_lines(task_rows)
+    page.h2("Tasks: ours beside the paper")
+    page.table(lines, list(lines[0]) if lines else ["task"], csv_name="tasks.csv")
+    page.h2("T14: the obstacle task per mode")
+    t14 = t14_lines(rows)
+    page.table(t14, list(t14[0]), csv_name="t14.csv")
+    ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
+    page.p("energy ordering, ours (least first): " + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
+           + "; paper: swlm < rclm < wcm < wrm")
+    sl = slope_lines(rows)
+    if sl:
+        page.h2("Slopes: success and slip against the slope angle")
+        page.table(sl, list(sl[0]), csv_name="slopes.csv")
+        fig, ax = plt.subplots(1, 2, figsize=(10, 3.5))
+        for soil in sorted({d["soil"] for d in sl}):
+            for meth in sorted({d["mode"] for d in sl}):
+                pts = [d for d in sl if d["soil"] == soil and d["mode"] == meth]
+                ax[0].plot([d["slope deg"] for d in pts], [d["success rate"] for d in pts], "o-", label=f"{meth} {soil}")
+                ax[1].plot([d["slope deg"] for d in pts], [d["body slip"] for d in pts], "o-", label=f"{meth} {soil}")
+        ax[0].set_xlabel("slope deg"); ax[0].set_ylabel("success rate"); ax[1].set_xlabel("slope deg")
+        ax[1].set_ylabel("body slip"); ax[0].legend(fontsize="small")
+        fig.tight_layout()
+        page.figure(fig, "slopes.png", "success rate and body slip vs slope")
+        plt.close(fig)
+    # series and the mode timeline, seed 0 of each (task, mode)
+    page.h2("Series per trial (seed 0): slip, wheel loads, constraint ratios")
+    timelines = []
+    for (inst, meth), rs in sorted(group(task_rows).items()):
+        r0 = sorted(rs, key=lambda r: r["seed"])[0]
+        ts = store.timeseries(r0["key"])
+        ev = r0["info"].get("events", [])
+        timelines.append((f"{inst}/{meth}", ev, float(r0["metrics"].get("sim_time", 0.0))))
+        if not ts or "t" not in ts:
+            continue
+        t = np.asarray(ts["t"])
+        fig, ax = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+        vc = np.asarray(ts["v_cmd"], float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sb = np.where(np.abs(vc) > 1e-4, 1 - np.asarray(ts["v"]) / vc, np.nan)
+        ax[0].plot(t, sb, label="body slip s_b"); ax[0].plot(t, ts["slip"], label="wheel slip (mean)")
+        ax[0].set_ylim(-1, 1.2); ax[0].legend(fontsize="small")
+        for c in ("c1", "c2", "c3", "c4", "c5", "c6"):
+            ax[1].plot(t, ts[f"W_{c}"], lw=0.8, label=c)
+        ax[1].set_ylabel("wheel load N"); ax[1].legend(fontsize="x-small", ncol=6)
+        from terrabench.systems.srwmr.constraints import NAMES, thresholds
+
+        mode = {"wrm": "WRM", "wcm": "WCM", "rclm": "RCLM", "rcm": "RCM"}[meth]
+        kap = thresholds(mode)
+        for i, n in enumerate(NAMES):
+            e = np.asarray(ts[f"eta_{n}"], float)
+            if np.nanmax(np.abs(e)) > 1e-3 if np.isfinite(e).any() else False:
+                ax[2].plot(t, e, lw=0.8, label=f"{n} (kappa {kap[i]:.2f})")
+        ax[2].set_ylabel("ratio eta"); ax[2].set_xlabel("t s"); ax[2].legend(fontsize="x-small", ncol=3)
+        fig.suptitle(f"{inst} / {meth} seed {r0['seed']}: {r0['status']} ({r0['info'].get('reason', '')})")
+        fig.tight_layout()
+        page.figure(fig, f"ts_{inst}_{meth}.png", f"{inst} / {meth}: slip, wheel loads (truth), constraint ratios")
+        plt.close(fig)
+    if timelines:
+        fig, ax = plt.subplots(figsize=(10, 0.4 * len(timelines) + 1.2))
+        draw_timelines(ax, timelines)
+        fig.tight_layout()
+        page.figure(fig, "timeline.png", "mode timeline per trial (controller events: supervisor halts, RCM switch)")
+        plt.close(fig)
+    page.raw(provenance_html(store, rows, system_id=system))
+    return page.finish()

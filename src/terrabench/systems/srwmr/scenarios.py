@@ -1,0 +1,107 @@
+"""HIT-MRII scenarios: the paper's tasks (group ``tasks``) and the slope sweep (group ``slopes``).
+
+Methods are the locomotion strategies the scripted operator uses: ``wrm`` (wheel rolling),
+``wcm`` (crabbing), ``rclm`` (chassis lifting), ``rcm`` (creeping, entered from WRM when the
+climbing efficiency drops below 10 %). Each instance lists the methods that apply to it
+(:data:`~terrabench.systems.srwmr.layouts.APPLIES`); planning drops the other pairs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from terrabench.benchmark.trial import TrialSpec
+from terrabench.systems.base import MethodInfo, System
+from terrabench.systems.srwmr.config import SRWMRConfig
+
+SCENARIO = "srwmr/tasks-v1"
+SLOPE_SCENARIO = "srwmr/slopes-v1"
+METHODS = {
+    "wrm": MethodInfo("wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",)),
+    "wcm": MethodInfo("wcm", "wheel crabbing mode: steer +-90 deg, roll sideways, steer back", ("wheels",)),
+    "rclm": MethodInfo("rclm", "robot chassis lifting mode: raise/lower the chassis, wheels coordinated (MC#2)", ("suspension",)),
+    "rcm": MethodInfo("rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",)),
+}
+
+
+class SRWMRSystem(System):
+    """The HIT-MRII reconfigurable rover on loose soil."""
+
+    id = "srwmr"
+    summary = "HIT-MRII reconfigurable rocker-bogie rover: constraint-saturated IK, WRM/WCM/RCLM/RCM on loose soil (Qi et al.)"
+    config_cls = SRWMRConfig
+    groups = {"tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T8, T11, T14)",
+              "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)"}
+    default_group = "tasks"
+    timeout_key = "protocol.timeout"
+    headline_metrics = ("body_slip", "progress", "distance", "energy_kJ", "W_diff_max", "sim_time")
+    perf_instances = ("t1-loose",)
+    env_ids = ("terrabench/SRWMR-v1",)
+    smoke = {"methods": ["wrm"], "instances": ["t1-loose"], "overrides": {"protocol.timeout": 3.0}}
+
+    def methods(self) -> dict[str, MethodInfo]:
+        return dict(METHODS)
+
+    def instances(self, group: str | None) -> list[str]:
+        from terrabench.systems.srwmr.layouts import SLOPES, TASKS
+
+        if group == "tasks":
+            return list(TASKS)
+        if group == "slopes":
+            return list(SLOPES)
+        return list(TASKS) + list(SLOPES)
+
+    def scenario(self, method: str, instance: str) -> str:
+        return SLOPE_SCENARIO if instance.startswith("slope-") else SCENARIO
+
+    def resolve_config(self, overrides=None):
+        cfg = super().resolve_config(overrides)
+        from terrabench.config import validate
+
+        validate(cfg)
+        return cfg
+
+    def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
+             group: str | None = None, seeds: int = 1, overrides=None) -> list[TrialSpec]:
+        from terrabench.systems.srwmr.layouts import APPLIES
+
+        specs = super().plan(methods=methods, instances=instances, group=group, seeds=seeds, overrides=overrides)
+        kept = [s for s in specs if s.method in APPLIES.get(s.instance, ())]
+        if specs and not kept:
+            asked = sorted({s.instance for s in specs})
+            valid = "; ".join(f"{i}: {', '.join(APPLIES.get(i, ()))}" for i in asked)
+            raise ValueError(f"no requested method applies to the requested instance(s); valid: {valid}")
+        return kept
+
+    def make_task(self, spec: TrialSpec, cfg: SRWMRConfig):
+        from terrabench.systems.srwmr.task import SRWMRTask
+
+        return SRWMRTask(spec.method, spec.instance, cfg, spec.seed)
+
+    def make_controller(self, spec: TrialSpec, cfg: SRWMRConfig, task):
+        from terrabench.systems.srwmr.control import RoverController
+
+        if spec.method not in METHODS:
+            raise ValueError(f"unknown srwmr method {spec.method!r}; valid: {', '.join(METHODS)}")
+        return RoverController(list(task.layout.plan), cfg.robot, cfg.supervisor, cfg.limits, cfg.scales,
+                               cfg.protocol.control_period)
+
+    def env_adapter(self):
+        from terrabench.systems.srwmr.env import SRWMREnvAdapter
+
+        return SRWMREnvAdapter()
+
+    def summarize(self, rows: list[dict[str, Any]]):
+        from terrabench.systems.srwmr.report import summary_table
+
+        return summary_table(rows)
+
+    def report(self, store, out_dir: Path) -> Path:
+        from terrabench.systems.srwmr.report import write_report
+
+        return write_report(store, Path(out_dir), system=self.id)
+
+
+SYSTEM = SRWMRSystem()

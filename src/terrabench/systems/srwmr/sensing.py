@@ -1,0 +1,90 @@
+"""The sensing boundary of the HIT-MRII (seed 001 sec. 8.1-8.3): what a controller may read.
+
+Joint encoders (rocker closing angles and rates, differential, bogie angles, steering angles,
+wheel spin rates), wheel drive torques, six wheel-load estimates (the per-wheel 6-axis F/T
+sensors: the pillar's force along the body z axis, with noise), the IMU (roll, pitch, yaw, gyro)
+and the motion-capture pose and body speed (OptiTrack in the paper; here with noise). Nothing
+about the soil, the sinkage or the true slip.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from terrabench.systems.srwmr.robot import SIDES, WHEELS, Names
+
+FIELDS = ("t", "delta", "ddelta", "phi", "zeta", "mu", "spin", "tau", "load", "rpy", "gyro", "xy", "yaw", "v_body")
+
+
+def rpy_from_quat(q) -> tuple[float, float, float]:
+    """Roll, pitch (nose up > 0), yaw (rad) of a (w, x, y, z) quaternion."""
+    w, x, y, z = q
+    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = -math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return roll, pitch, yaw
+
+
+class Observation:
+    """Measurements after the last physics step (see module docstring; SI units).
+
+    Attributes:
+        t (s); delta (2,) closing angles L, R (rad); ddelta (2,) their rates (rad/s); phi (2,)
+        differential; zeta (2,) bogie angles; mu (6,) steering; spin (6,) wheel rates (rad/s);
+        tau (6,) drive torques (N m); load (6,) wheel-load estimates (N); rpy (3,) (rad); gyro
+        (3,) (rad/s); xy (2,) position (m) and yaw (rad) from motion capture; v_body (2,)
+        forward / lateral body speed (m/s) from motion capture, noisy.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, rng: np.random.Generator,
+                 load_noise: float = 5.0, speed_noise: float = 0.001, pose_noise: float = 0.00015):
+        self._d = data
+        jq = lambda n: int(model.joint(n).qposadr[0])
+        jv = lambda n: int(model.joint(n).dofadr[0])
+        self._rock_q = np.array([jq(Names.rocker(s)) for s in SIDES])
+        self._rock_v = np.array([jv(Names.rocker(s)) for s in SIDES])
+        self._diff = np.array([jq(Names.diff(s)) for s in SIDES])
+        self._bog = np.array([jq(Names.bogie(s)) for s in SIDES])
+        self._steer = np.array([jq(Names.steer(c)) for c in WHEELS])
+        self._spin = np.array([jv(Names.drive(c)) for c in WHEELS])
+        self._drive = np.array([model.actuator(Names.drive(c)).id for c in WHEELS])
+        self._ft = np.array([int(model.sensor_adr[model.sensor(Names.ft(c)).id]) for c in WHEELS])
+        self._quat = int(model.sensor_adr[model.sensor(Names.QUAT).id])
+        self._gyro = int(model.sensor_adr[model.sensor(Names.GYRO).id])
+        self._pillar = np.array([model.site(Names.ft(c)).id for c in WHEELS])
+        self._chassis = model.body(Names.CHASSIS).id
+        self._root = jv(Names.ROOT)
+        self.rng = rng
+        self.load_noise, self.speed_noise, self.pose_noise = load_noise, speed_noise, pose_noise
+        self.refresh()
+
+    def refresh(self) -> Observation:
+        d, rng = self._d, self.rng
+        s = d.sensordata
+        self.t = float(d.time)
+        self.delta = -d.qpos[self._rock_q]
+        self.ddelta = -d.qvel[self._rock_v]
+        self.phi = d.qpos[self._diff].copy()
+        self.zeta = d.qpos[self._bog].copy()
+        self.mu = d.qpos[self._steer].copy()
+        self.spin = d.qvel[self._spin].copy()
+        self.tau = d.actuator_force[self._drive].copy()
+        q = s[self._quat: self._quat + 4]
+        self.rpy = np.array(rpy_from_quat(q))
+        self.gyro = s[self._gyro: self._gyro + 3].copy()
+        # F/T sensor: force the pillar transmits (site frame); the load is the component along
+        # the pillar (-z of the site frame carries the wheel), then rotated
+        f = s[self._ft[:, None] + np.arange(3)]
+        self.load = -f[:, 2] + rng.normal(0.0, self.load_noise, 6) if self.load_noise else -f[:, 2]
+        ch = self._chassis
+        yaw = self.rpy[2]
+        self.xy = d.xpos[ch, :2] + rng.normal(0.0, self.pose_noise, 2)
+        self.yaw = yaw
+        vw = d.qvel[self._root: self._root + 3]  # free joint: linear velocity of the origin, world frame
+        c, sn = math.cos(yaw), math.sin(yaw)
+        fwd, lat = c * vw[0] + sn * vw[1], -sn * vw[0] + c * vw[1]
+        self.v_body = np.array([fwd, lat]) + rng.normal(0.0, self.speed_noise, 2)
+        return self

@@ -1,0 +1,191 @@
+"""One HIT-MRII episode as a hallway :class:`~terrabench.systems.base.Task`.
+
+The wheels stand on soil: their rigid contact with the ground is off and
+:class:`terrabench.soil.SoilWheels` writes the terramechanics forces every physics step
+(``before_substep``); they still collide with rigid obstacles. Ground truth is used here only
+for stop checks, logging and metrics (never by the controller).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+
+import mujoco
+import numpy as np
+
+from terrabench.sim.episode import Timing
+from terrabench.soil import SoilTable, SoilWheels
+from terrabench.soil.presets import HIT_MRII_WHEEL
+from terrabench.systems.base import TaskBase
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr.config import SRWMRConfig
+from terrabench.systems.srwmr.kinematics import delta_for_clearance
+from terrabench.systems.srwmr.layouts import Layout, layout, profile_ground
+from terrabench.systems.srwmr.robot import (
+    LINK_BIT,
+    SIDES,
+    WHEEL_BIT,
+    WHEELS,
+    Names,
+    add_robot,
+    wheel_bodies,
+)
+from terrabench.systems.srwmr.sensing import Observation
+from terrabench.systems.srwmr.soils import srwmr_soil
+
+COLUMNS = (("x", "y", "z", "yaw", "pitch", "roll", "v", "v_cmd", "delta_L", "delta_R", "mode", "step", "slip",
+            "sinkage") + tuple(f"W_{c}" for c in WHEELS) + ("DP", "P_drive")
+           + tuple(f"eta_{n}" for n in mc.NAMES))
+
+
+@functools.lru_cache(maxsize=16)
+def soil_table(soil, wheel) -> SoilTable:
+    return SoilTable(soil, wheel)
+
+
+def trial_soil(name: str, cfg: SRWMRConfig, seed: int):
+    """The soil of a trial: the named one, k_phi scaled, seeds > 0 jittered within the bound."""
+    s = srwmr_soil(name)
+    f_k, f_K = cfg.soil.k_phi_scale, 1.0
+    if seed and cfg.soil.jitter:
+        rng = np.random.default_rng(10_000 + seed)
+        j = cfg.soil.jitter
+        f_k *= 1.0 + rng.uniform(-j, j)
+        f_K *= 1.0 + rng.uniform(-j, j)
+    if f_k == 1.0 and f_K == 1.0:
+        return s
+    return dataclasses.replace(s, name=f"{s.name}~{seed}", k_phi=s.k_phi * f_k, K=s.K * f_K)
+
+
+class SRWMRTask(TaskBase):
+    """The rover driven by the scripted operator's plan on one instance."""
+
+    columns = COLUMNS
+
+    def __init__(self, method: str, instance: str, cfg: SRWMRConfig, seed: int = 0):
+        self.method, self.instance, self.cfg, self.seed = method, instance, cfg, seed
+        self.layout: Layout = layout(instance, method, cfg.robot, cfg.scene.approach)
+        pr = cfg.protocol
+        self.physics = cfg.physics
+        timeout = pr.timeout or self.layout.timeout
+        self.timing = Timing(pr.control_period, timeout, pr.check_period, pr.log_period)
+        self.soil = trial_soil(cfg.soil.preset or self.layout.soil, cfg, seed)
+        rng = np.random.default_rng(seed)
+        sc = cfg.scene
+        if seed:
+            self.start = (rng.uniform(-sc.start_jitter, sc.start_jitter), rng.uniform(-sc.start_jitter, sc.start_jitter),
+                          math.radians(rng.uniform(-sc.yaw_jitter_deg, sc.yaw_jitter_deg)))
+        else:
+            self.start = (0.0, 0.0, 0.0)
+        self.rng = np.random.default_rng(1_000_000 + seed)
+        self.delta0 = delta_for_clearance(cfg.robot, sc.clearance)
+        self.last_cmd = None
+
+    # ------------------------------------------------------------------ scene
+    def build(self, spec: mujoco.MjSpec) -> None:
+        lay, r = self.layout, self.cfg.robot
+        spec.modelname = f"srwmr_{self.instance}"
+        prof = lay.profile
+        for (x0, z0), (x1, z1) in zip(prof[:-1], prof[1:]):
+            L = math.hypot(x1 - x0, z1 - z0)
+            ang = math.atan2(z1 - z0, x1 - x0)
+            th = 0.1
+            cx, cz = 0.5 * (x0 + x1) + math.sin(ang) * th, 0.5 * (z0 + z1) - math.cos(ang) * th
+            spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[L / 2, 4.0, th], pos=[cx, 0, cz],
+                                    quat=[math.cos(-ang / 2), 0, math.sin(-ang / 2), 0], contype=0,
+                                    conaffinity=LINK_BIT, rgba=[0.72, 0.55, 0.38, 1])
+        for i, (cx, cy, hx, hy, hz) in enumerate(lay.boxes):
+            zb = float(np.interp(cx, [p[0] for p in prof], [p[1] for p in prof]))
+            spec.worldbody.add_geom(name=f"obstacle_{i}", type=mujoco.mjtGeom.mjGEOM_BOX, size=[hx, hy, hz],
+                                    pos=[cx, cy, zb + hz], contype=0, conaffinity=LINK_BIT | WHEEL_BIT,
+                                    friction=[0.8, 0.005, 0.0001], rgba=[0.55, 0.3, 0.25, 1])
+        spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
+        self.table = soil_table(self.soil, HIT_MRII_WHEEL)
+        self.z_sink = self.table.static_sinkage(r.total_mass * 9.81 / 6)
+        x0, y0, yaw = self.start
+        hz = r.hinge_height - self.z_sink + (self.cfg.scene.clearance - r.clearance)
+        add_robot(spec, (x0, y0, lay.z0 + hz + 0.002), yaw, r)
+
+    def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Observation:
+        self.model, self.data = model, data
+        r = self.cfg.robot
+        d0 = self.delta0
+        for s in SIDES:
+            data.qpos[model.joint(Names.rocker(s)).qposadr[0]] = -d0
+            data.qpos[model.joint(Names.front(s)).qposadr[0]] = r.z_ratio * d0
+            data.qpos[model.joint(Names.bogie(s)).qposadr[0]] = d0
+        mujoco.mj_forward(model, data)
+        self.soil_wheels = SoilWheels(model, data, wheel_bodies(), HIT_MRII_WHEEL, self.table,
+                                      profile_ground(self.layout.profile), v_eps=self.cfg.soil.v_eps,
+                                      every=self.cfg.soil.every, refresh=self.cfg.soil.refresh)
+        model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
+        self.before_substep = self.soil_wheels.before_substep
+        self.a_steer = np.array([model.actuator(Names.steer(c)).id for c in WHEELS])
+        self.a_drive = np.array([model.actuator(Names.drive(c)).id for c in WHEELS])
+        self.a_rock = np.array([model.actuator(Names.rocker(s)).id for s in SIDES])
+        data.ctrl[self.a_rock] = -d0
+        self.chassis = model.body(Names.CHASSIS).id
+        self.obs = Observation(model, data, self.rng)
+        self.x_start = float(data.xpos[self.chassis, 0])
+        self.z_start = float(data.xpos[self.chassis, 2])
+        return self.obs
+
+    # ------------------------------------------------------------------ loop
+    def observe(self) -> Observation:
+        return self.obs.refresh()
+
+    def check(self, obs: Observation, slow: bool):
+        roll, pitch = obs.rpy[0], obs.rpy[1]
+        lim = self.cfg.protocol.turn_over
+        if abs(roll) > lim or abs(pitch) > lim:
+            return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {lim} rad"
+        x = float(self.data.xpos[self.chassis, 0])
+        goal = self.layout.goal_x
+        cmd = self.last_cmd
+        if cmd is not None and cmd.stop:
+            if cmd.stop.startswith("health"):
+                return "stuck", cmd.stop
+            if goal is None or x >= goal - 0.05:
+                return "success", cmd.stop
+            return "stuck", f"{cmd.stop} short of the goal (x {x:.2f} < {goal:.2f} m)"
+        if goal is not None and x >= goal and self.method != "wcm" and self.method != "rclm":
+            return "success", f"chassis past x = {goal:.2f} m"
+        return None
+
+    def apply(self, cmd) -> None:
+        d = self.data
+        d.ctrl[self.a_steer] = cmd.steer
+        d.ctrl[self.a_drive] = cmd.spin
+        d.ctrl[self.a_rock] = -cmd.delta
+        self.last_cmd = cmd
+
+    def row(self, obs: Observation, cmd) -> tuple[float, ...]:
+        d, t = self.data, self.soil_wheels.truth
+        p = d.xpos[self.chassis]
+        vw = d.qvel[0:3]
+        yaw = obs.rpy[2]
+        v = math.cos(yaw) * vw[0] + math.sin(yaw) * vw[1]
+        drive_p = float(np.abs(d.actuator_force[self.a_drive] * d.actuator_velocity[self.a_drive]).sum())
+        if cmd is None:
+            vc, mode, step, ratios = np.nan, np.nan, np.nan, np.full(len(mc.NAMES), np.nan)
+        else:
+            vc, mode, ratios = float(cmd.u[0]), float(cmd.mode), cmd.ratios
+            step = float(getattr(cmd, "step", np.nan))
+        return ((float(p[0]), float(p[1]), float(p[2]), yaw, obs.rpy[1], obs.rpy[0], v, vc, obs.delta[0], obs.delta[1],
+                 mode, step, float(np.mean(t["slip"])), float(np.mean(t["sinkage"])))
+                + tuple(float(w) for w in t["Fn"]) + (float(np.sum(t["DP"])), drive_p) + tuple(float(x) for x in ratios))
+
+    def power(self, obs) -> float:
+        d = self.data
+        return float(np.abs(d.actuator_force * d.actuator_velocity).sum())
+
+    def metrics(self, log) -> dict[str, float]:
+        from terrabench.systems.srwmr.metrics import episode_metrics
+
+        return episode_metrics(log, self.x_start, self.z_start)
+
+    def info(self) -> dict:
+        return {"soil": self.soil.name, "k_phi": self.soil.k_phi, "K": self.soil.K, "goal_x": self.layout.goal_x,
+                "slope_deg": self.layout.slope_deg, "note": self.layout.note, "timestep": self.physics.timestep}

@@ -70,3 +70,142 @@ def test_run_with_a_meaningless_config_value_stores_nothing(tmp_path, setting):
                  "--store", str(store))
     one_error_line(res, key, value.strip("[]").split(",")[0])
     assert not store.exists()
+
+
+# ----------------------------------------------------------------------------- output paths
+#: the arguments each command with an output path needs besides it (a new command with a path
+#: option must be added here: the test below checks the list is complete)
+PATH_COMMANDS = {
+    ("report",): ["mrs-cwc"],
+    ("render",): ["mrs-cwc", "--terrain", "A-01", "--timeout", "0.1"],
+    ("terrain", "show"): ["B-07"],
+    ("terrain", "generate"): ["--n", "1"],
+}
+
+
+def _commands_with_out():
+    import typer.main
+
+    root = typer.main.get_command(app)
+    found = set()
+
+    def walk(cmd, path):
+        for name, sub in getattr(cmd, "commands", {}).items():
+            walk(sub, path + (name,))
+        if any("--out" in getattr(p, "opts", []) for p in getattr(cmd, "params", [])):
+            found.add(path)
+    walk(root, ())
+    return found
+
+
+def test_every_out_option_is_listed():
+    assert _commands_with_out() == set(PATH_COMMANDS)
+
+
+@pytest.mark.parametrize("command", sorted(PATH_COMMANDS))
+@pytest.mark.parametrize("where", ["unwritable", "under-a-file"])
+def test_every_out_path_is_checked_before_any_work(tmp_path, command, where):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    name = "x.mp4" if command == ("render",) else "x.csv" if command == ("terrain", "generate") else "x.png"
+    bad = f"/proc/terrabench-no/{name}" if where == "unwritable" else str(afile / name)
+    store = tmp_path / "r.duckdb"
+    extra = ["--store", str(store)] if command in (("report",), ("terrain", "show")) else []
+    res = invoke(*command, *PATH_COMMANDS[command], *extra, "--out", bad)
+    one_error_line(res, repr(bad))
+    assert not store.exists()
+
+
+def test_report_out_an_existing_file(tmp_path):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    one_error_line(invoke("report", "mrs-cwc", "--out", str(afile)), "existing file")
+    assert afile.read_text() == "x"
+
+
+@pytest.mark.parametrize("sid", SYSTEMS)
+def test_report_on_a_store_without_the_systems_rows(tmp_path, sid):
+    from terrabench.benchmark.store import ResultsStore
+
+    store = tmp_path / "empty.duckdb"
+    ResultsStore(store).close()
+    one_error_line(invoke("report", sid, "--store", str(store), "--out", str(tmp_path / "rep")), f"no {sid} trials")
+    assert not (tmp_path / "rep").exists()
+
+
+def test_a_method_that_does_not_apply_to_the_group_names_those_that_do(tmp_path):
+    store = tmp_path / "r.duckdb"
+    line = one_error_line(invoke("run", "beams", "--methods", "interact", "--group", "estimation", "--store", str(store)),
+                          "'interact'", "'estimation'", "estimate-4")
+    assert "estimate-2" in line
+    assert not store.exists()
+
+
+def test_render_refusals_come_before_any_episode(tmp_path):
+    out = str(tmp_path / "x.png")
+    one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--seed", "-1", "--out", out), "--seed", "-1")
+    one_error_line(invoke("render", "beams", "--terrain", "stiff", "--out", out), "'beams'", "episode loop")
+    one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--out", str(tmp_path / "x.avi")), "'.avi'", ".mp4")
+    one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--out", out, env={"MUJOCO_GL": "nope"}),
+                   "MUJOCO_GL", "'nope'", "egl")
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_an_impossible_frame_size_is_one_line():
+    import mujoco
+
+    from terrabench.report.render import GLUnavailable, SceneRenderer
+
+    model = mujoco.MjModel.from_xml_string("<mujoco><worldbody><geom size='1' type='sphere'/></worldbody></mujoco>")
+    try:
+        with pytest.raises(ValueError, match="100000x480 frame") as err:
+            SceneRenderer(model, 100000, 480)
+    except GLUnavailable as exc:  # no headless GL on this machine: nothing to check
+        pytest.skip(str(exc))
+    assert "\n" not in str(err.value)
+
+
+def test_ray_backend_without_ray_installed_is_checked_before_the_store(tmp_path, monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "ray" else real(name, *a))
+    store = tmp_path / "r.duckdb"
+    line = one_error_line(invoke("run", "mrs-cwc", "--terrains", "A-01", "--backend", "ray", "--store", str(store)),
+                          "pip install 'terrabench[ray]'")
+    assert "[ray]" in line
+    assert not store.exists()
+
+
+def _main(monkeypatch, capsys, *args, env=None):
+    """The console script itself (typer's parse errors are formatted there, not in the app)."""
+    import sys
+
+    from terrabench import cli
+
+    monkeypatch.setattr(sys, "argv", ["terrabench", *args])
+    for k, v in (env or {}).items():
+        monkeypatch.setenv(k, v)
+    with pytest.raises(SystemExit) as ex:
+        cli.main()
+    cap = capsys.readouterr()
+    return ex.value.code, cap.out + cap.err
+
+
+@pytest.mark.parametrize("args, needles", [
+    (["run", "mrs-cwc", "--seeds", "abc"], ["--seeds 'abc'", "integer"]),
+    (["run", "mrs-cwc", "--seeds=1.5"], ["--seeds '1.5'"]),
+    (["render", "mrs-cwc", "--terrain", "A-01", "--width", "big"], ["--width 'big'"]),
+    (["perf", "mrs-cwc", "--seconds", "x"], ["--seconds 'x'", "number"]),
+])
+def test_parse_errors_show_the_value(monkeypatch, capsys, args, needles):
+    code, text = _main(monkeypatch, capsys, *args)
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    assert code == 2 and len(lines) == 1, text
+    for n in needles:
+        assert n in lines[0]
+
+
+def test_a_bad_mujoco_gl_is_one_line_for_every_command(monkeypatch, capsys):
+    code, text = _main(monkeypatch, capsys, "list", env={"MUJOCO_GL": "bogus"})
+    assert code == 2 and "MUJOCO_GL='bogus'" in text and len(text.strip().splitlines()) == 1

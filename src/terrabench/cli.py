@@ -152,6 +152,11 @@ def run(
 
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
+    if backend == "ray":
+        import importlib.util
+
+        if importlib.util.find_spec("ray") is None:
+            raise ValueError("backend 'ray' needs the ray extra: pip install 'terrabench[ray]'")
     if workers is not None and workers < 1:
         raise ValueError(f"--workers must be at least 1, got {workers}")
     if address is not None and backend != "ray":
@@ -165,6 +170,13 @@ def run(
         raise ValueError(f"--group was given an empty value; valid: {', '.join(list(sysobj.groups) + ['all'])}")
     specs = sysobj.plan(methods=_split(methods, "--methods"), instances=_split(terrains, "--terrains"),
                         group=group, seeds=seeds, overrides=overrides)
+    if not specs:  # e.g. a method that does not apply to the group: an error, not a silent no-op
+        from terrabench.describe import methods_for
+
+        where = f"group {group!r}" if group else f"instances {terrains!r}" if terrains else "the default group"
+        valid = methods_for(sysobj, group=group, instances=_split(terrains, "--terrains"))
+        raise ValueError(f"{system}: --methods {methods!r} plan no trials in {where}; "
+                         f"methods that apply there: {', '.join(valid) or 'none'}")
     signal.signal(signal.SIGTERM, _interrupt)  # a scheduler's TERM stops as cleanly as Ctrl-C
     with ResultsStore(store) as st:
         summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
@@ -237,9 +249,13 @@ def report(
     from terrabench.benchmark.store import ResultsStore
     from terrabench.catalog import system as get_system
 
+    from terrabench.paths import check_out_dir
+
     sysobj = get_system(system)
-    out = out or Path("reports") / system
+    out = check_out_dir(out or Path("reports") / system)
     with ResultsStore(store, read_only=True) as st:
+        if not st.query("SELECT count(*) FROM trials WHERE system = ?", [sysobj.id])[0][0]:
+            raise ValueError(f"no {sysobj.id} trials in {str(store)!r}; run `terrabench run {sysobj.id}` first")
         path = sysobj.report(st, out)
     console.print(f"report written: {path}")
 
@@ -300,8 +316,11 @@ def terrain_generate(
 
     from terrabench.terrain import dataset
 
+    from terrabench.paths import check_out_file
+
     if n < 1:
         raise ValueError(f"--n must be at least 1, got {n}")
+    check_out_file(out)
     try:
         lo, hi = (float(v) for v in band.split(","))
     except ValueError:
@@ -322,7 +341,10 @@ def terrain_show(
     from terrabench.report.terrain_plot import plot_terrain
     from terrabench.terrain import dataset
 
+    from terrabench.paths import check_out_file
+
     ter = dataset.get(terrain)
+    out = check_out_file(out or Path(f"{ter.id}.png"))
     paths = {}
     if store.exists():
         from terrabench.benchmark.store import ResultsStore
@@ -334,7 +356,6 @@ def terrain_show(
                     ts = st.timeseries(r["key"])
                     if "x" in ts:
                         paths[f"{r['method']} ({r['status']})"] = (ts["x"], ts["y"])
-    out = out or Path(f"{ter.id}.png")
     plot_terrain(ter, out, paths)
     console.print(f"wrote {out} ({len(paths)} stored path(s) drawn)")
 
@@ -358,15 +379,19 @@ def render(
 
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
-    from terrabench.report.render import VIDEO_SUFFIXES
+    from terrabench.paths import check_out_file
+    from terrabench.report.render import VIDEO_SUFFIXES, check_gl_env, check_renderable
 
-    if out.suffix.lower() not in VIDEO_SUFFIXES:
-        raise ValueError(f"--out {str(out)!r}: unknown suffix {out.suffix!r}; valid: {', '.join(VIDEO_SUFFIXES)}")
+    check_out_file(out, suffixes=VIDEO_SUFFIXES)
     if not (fps > 0) or fps == float("inf"):
         raise ValueError(f"--fps must be a positive number, got {fps}")
     if width <= 0 or height <= 0:
         raise ValueError(f"--width and --height must be positive, got {width}x{height}")
+    if seed < 0:
+        raise ValueError(f"--seed must be >= 0 (0 = the released start), got {seed}")
+    check_gl_env()
     sysobj = get_system(system)
+    check_renderable(sysobj)
     overrides = parse_overrides(set_ or [])
     _limit_overrides(sysobj, overrides, timeout=timeout)
     spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,
@@ -383,9 +408,63 @@ def render(
                   f"at {width}x{height}", highlight=False)
 
 
+#: MUJOCO_GL values ``import mujoco`` accepts on Linux (mujoco/rendering/classic/gl_context.py);
+#: any other value makes every import of mujoco raise, so it is refused before one happens
+MUJOCO_GL_VALUES = ("egl", "osmesa", "glx", "glfw", "", "enable", "enabled", "on", "true", "1",
+                    "disable", "disabled", "off", "false", "0")
+
+
+def _raw_value(param, args: list[str]) -> str | None:
+    """The text the user gave an option (``--seeds abc`` or ``--seeds=abc``), if it can be found."""
+    for opt in getattr(param, "opts", []) or []:
+        if not opt.startswith("-"):
+            continue
+        for i, a in enumerate(args):
+            if a == opt and i + 1 < len(args):
+                return args[i + 1]
+            if a.startswith(opt + "="):
+                return a[len(opt) + 1:]
+    return None
+
+
 def main() -> None:
+    """The console script: typer's app, with every usage error on one line that shows the value."""
+    import sys
+
+    try:  # typer >= 0.20 vendors click as typer._click; older ones use click itself
+        from typer._click import exceptions as cex
+    except ImportError:  # pragma: no cover
+        from click import exceptions as cex
+
     os.environ.setdefault("MPLBACKEND", "Agg")
-    app()
+    gl = os.environ.get("MUJOCO_GL")
+    if gl is not None and gl.lower().strip() not in MUJOCO_GL_VALUES:
+        err_console.print(f"[bold red]error:[/] {rich_escape(f'MUJOCO_GL={gl!r} is not a MuJoCo OpenGL backend')}; "
+                          "valid: egl, osmesa (headless), glfw, glx, or unset", highlight=False, soft_wrap=True)
+        sys.exit(2)
+    args = sys.argv[1:]
+    try:
+        rc = app(args=args, standalone_mode=False)
+    except cex.BadParameter as exc:
+        if isinstance(exc, cex.MissingParameter):
+            from typer import rich_utils
+
+            rich_utils.rich_format_error(exc)
+            sys.exit(exc.exit_code)
+        name = exc.param.opts[0] if exc.param is not None and exc.param.opts else (exc.param_hint or "a value")
+        raw = _raw_value(exc.param, args)
+        shown = f"{name} {raw!r}" if raw is not None else str(name)
+        err_console.print(f"[bold red]error:[/] {rich_escape(f'{shown}: {exc.message}')}", highlight=False, soft_wrap=True)
+        sys.exit(2)
+    except cex.ClickException as exc:
+        from typer import rich_utils
+
+        rich_utils.rich_format_error(exc)
+        sys.exit(exc.exit_code)
+    except typer.Abort:
+        err_console.print("Aborted!")
+        sys.exit(1)
+    sys.exit(rc if isinstance(rc, int) else 0)
 
 
 if __name__ == "__main__":

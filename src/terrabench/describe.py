@@ -59,13 +59,13 @@ def examples(ids: list[str], n: int = 3) -> str:
     return ", ".join(ids[:n]) + f" ... {ids[-1]}"
 
 
-def methods_for(sysobj: Any, group: str) -> list[str]:
-    """The methods that plan at least one trial in ``group`` (a method that does not apply is
-    refused by the planner or plans nothing)."""
+def methods_for(sysobj: Any, group: str | None = None, instances: list[str] | None = None) -> list[str]:
+    """The methods that plan at least one trial in ``group`` (or on ``instances``); a method that
+    does not apply there is refused by the planner or plans nothing."""
     ok = []
     for m in sysobj.methods():
         try:
-            if sysobj.plan(methods=[m], group=group, seeds=1):
+            if sysobj.plan(methods=[m], group=group, instances=instances, seeds=1):
                 ok.append(m)
         except ValueError:
             pass

@@ -41,6 +41,27 @@ class GLUnavailable(RuntimeError):
     """No headless OpenGL context could be made (reports fall back to a note, the CLI to one line)."""
 
 
+#: the MUJOCO_GL values this renderer understands (unset: EGL, then OSMesa)
+GL_BACKENDS = ("egl", "osmesa")
+
+
+def check_gl_env() -> None:
+    """ValueError (one line) if ``MUJOCO_GL`` names a backend this headless renderer cannot use."""
+    value = os.environ.get("MUJOCO_GL", "egl")
+    if value.lower().strip() not in GL_BACKENDS:
+        raise ValueError(f"MUJOCO_GL={value!r} is not a headless OpenGL backend; valid: {', '.join(GL_BACKENDS)} "
+                         "(unset: egl, then osmesa)")
+
+
+def check_renderable(system: Any) -> None:
+    """ValueError (one line) if ``system`` has no MuJoCo episode to render (no ``make_task``)."""
+    from terrabench.systems.base import System
+
+    if type(system).make_task is System.make_task:
+        raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop, so it has no "
+                         "clip to render; render the systems that do (e.g. mrs-cwc, octopus)")
+
+
 def _gl_context(width: int, height: int):
     """A current offscreen GL context: EGL, then OSMesa (or the reverse if MUJOCO_GL=osmesa)."""
     first = os.environ.get("MUJOCO_GL", "egl").lower()
@@ -86,6 +107,12 @@ class SceneRenderer:
         model.vis.headlight.ambient[:] = np.maximum(model.vis.headlight.ambient, 0.35)
         model.vis.headlight.diffuse[:] = np.maximum(model.vis.headlight.diffuse, 0.6)
         self._ctx = _gl_context(width, height)
+        try:
+            self.context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
+        except mujoco.FatalError as exc:
+            self._ctx.free()
+            raise ValueError(f"a {width}x{height} frame does not fit this OpenGL's offscreen framebuffer ({exc}); "
+                             "give a smaller --width/--height, e.g. 1920x1080") from None
         self.scene = mujoco.MjvScene(model, maxgeom=10000)
         self.option = mujoco.MjvOption()
         self.camera = mujoco.MjvCamera()
@@ -93,7 +120,6 @@ class SceneRenderer:
         self.camera.azimuth, self.camera.elevation = azimuth, elevation
         self.elevation = elevation
         self.distance = distance
-        self.context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.context)
         self.rect = mujoco.MjrRect(0, 0, width, height)
         self._moving = np.flatnonzero(model.body_mass > 0)

@@ -1,4 +1,8 @@
-"""OCTOPUS results: the table beside the paper's numbers and the HTML report."""
+"""OCTOPUS results: the table beside the paper's numbers and the HTML report (shared page layer).
+
+Every report line is one (task, variant): a run with different ``--set`` values is its own
+labelled line (:func:`terrabench.report.variants.find_variants`).
+"""
 
 from __future__ import annotations
 
@@ -17,19 +21,41 @@ PAPER = {
     ("block-500", "clm"): {"success": "passes (arm detects, rides over)", "max_pitch": None, "max_roll": None, "min_margin": None},
 }
 TASK_ORDER = ("step-400", "terrace2-front", "terrace2-side", "block-500")
+METHOD_LABEL = {"clm": "CLM", "ccm": "CCM"}
+#: mode codes of the stored ``mode`` column, per method (clm.MODE_NAMES, ccm.MODE_NAMES)
+CCM_NOTE = (
+    "CCM here is an automated stand-in for the paper's two operators (one drove the crawlers, one "
+    "the flippers, watching the robot). It uses the same sensors as CLM and the flipper sequence of "
+    "Nagatani et al. 2008 / Okada et al. 2009: approach with the front flippers raised and held, "
+    "press them on the edge and push with the rear flippers, flatten on the top. Where an operator "
+    "would try again, it backs off after 6 s without pitch gain and retries, rearing the nose "
+    "higher (0.3 rad more) before it presses each time; its abort sits at the turned-over threshold "
+    "(1.2 rad), so it cannot hide that outcome. What it cannot stand in for: an operator's view "
+    "of the edge and judgement of when to stop.")
+MARGIN_NOTE = (
+    "Stability margin: the paper's static margin, the distance from the COG's ground projection to "
+    "the support polygon, here the hull of the contacts of geoms that carried more than 20 N within "
+    "the last 0.5 s (load-filtered), evaluated at quasi-static instants only (chassis speed < 0.15 "
+    "m/s, angular speed < 0.3 rad/s, normal ground load within 20 % of the weight), sampled every "
+    "0.1 s after the first second. Dynamic events (runs of other instants whose margin over every "
+    "contact is negative: impacts, the lift, the release) are counted apart, with their worst "
+    "instantaneous margin.")
+HEADING_NOTE = (
+    "Heading: neither controller has a yaw input (the robot senses roll and pitch only, like the "
+    "paper's controller); the paper's operator gave the move direction. Nothing here stands in "
+    "for that channel, so yaw drift is not corrected.")
 
 
 def group(rows: list[dict[str, Any]]) -> dict[tuple[str, str], list[dict[str, Any]]]:
     out: dict[tuple[str, str], list[dict[str, Any]]] = {}
     for r in rows:
-        out.setdefault((r["instance"], r["method"]), []).append(r)
+        out.setdefault((r["instance"], r.get("variant", r["method"])), []).append(r)
     return out
 
 
 def task_summary(rs: list[dict[str, Any]]) -> dict[str, Any]:
-    """Successes, statuses and the extreme figures over a (task, method)'s trials."""
+    """Successes, statuses and the extreme figures over one (task, variant)'s trials."""
     m = lambda name: np.array([r["metrics"].get(name, np.nan) for r in rs], float)  # noqa: E731
-    pitch, roll, margin = m("max_pitch"), m("max_roll"), m("min_margin")
     statuses: dict[str, int] = {}
     for r in rs:
         statuses[r["status"]] = statuses.get(r["status"], 0) + 1
@@ -38,9 +64,22 @@ def task_summary(rs: list[dict[str, Any]]) -> dict[str, Any]:
         a = a[np.isfinite(a)]
         return float(a[np.argmax(np.abs(a))]) if len(a) else float("nan")
 
-    return {"n": len(rs), "success": statuses.get("success", 0), "statuses": statuses,
-            "max_pitch": ext(pitch), "max_roll": ext(roll),
-            "min_margin": float(np.nanmin(margin)) if np.isfinite(margin).any() else float("nan")}
+    def lo(a):
+        a = a[np.isfinite(a)]
+        return float(a.min()) if len(a) else float("nan")
+
+    def mean(a):
+        a = a[np.isfinite(a)]
+        return float(a.mean()) if len(a) else float("nan")
+
+    ok = np.array([r["status"] == "success" for r in rs])
+    t = m("sim_time")
+    return {"n": len(rs), "success": int(ok.sum()), "statuses": statuses,
+            "max_pitch": ext(m("max_pitch")), "max_roll": ext(m("max_roll")),
+            "min_margin": lo(m("min_margin")), "dyn_events": mean(m("dyn_events")),
+            "min_margin_dyn": lo(m("min_margin_dyn")), "track_share": mean(m("track_share")),
+            "energy": mean(m("energy")), "track_energy": mean(m("track_energy")),
+            "time_success": mean(t[ok]) if ok.any() else float("nan")}
 
 
 def _f(v) -> str:
@@ -51,33 +90,61 @@ def _f(v) -> str:
     return "-" if v != v else f"{v:+.2f}"
 
 
+def _key_order(order):
+    """Tasks in the paper's order, CLM variants before CCM ones."""
+    return lambda k: (order.get(k[0], 99), k[0], 0 if k[1].startswith("clm") else 1, k[1])
+
+
+def _lines(g, order) -> list[dict[str, Any]]:
+    lines = []
+    for key in sorted(g, key=_key_order(order)):
+        rs = g[key]
+        s = task_summary(rs)
+        meth = rs[0]["method"]
+        p = PAPER.get((key[0], meth), {})
+        lines.append({
+            "task": key[0], "mode": rs[0].get("label", METHOD_LABEL.get(meth, meth)), "n": s["n"],
+            "success": f"{s['success']}/{s['n']}", "paper": str(p.get("success", "-")),
+            "statuses": ", ".join(f"{k} {v}" for k, v in sorted(s["statuses"].items())),
+            "max pitch rad": f"{_f(s['max_pitch'])} ({_f(p.get('max_pitch'))})",
+            "max roll rad": f"{_f(s['max_roll'])} ({_f(p.get('max_roll'))})",
+            "min margin m": f"{_f(s['min_margin'])} ({_f(p.get('min_margin'))})",
+            "dynamic events / trial": round(s["dyn_events"], 1) if s["dyn_events"] == s["dyn_events"] else None,
+            "worst dynamic margin m": s["min_margin_dyn"],
+            "track share": s["track_share"], "energy J": s["energy"], "of it crawlers J": s["track_energy"],
+            "time to success s": s["time_success"],
+        })
+    return lines
+
+
+LINE_COLUMNS = ("task", "mode", "n", "success", "paper", "statuses", "max pitch rad", "max roll rad",
+                "min margin m", "dynamic events / trial", "worst dynamic margin m", "track share",
+                "energy J", "of it crawlers J", "time to success s")
+
+
 def summary_table(rows: list[dict[str, Any]]):
-    """Rich table: per task and mode, ours (paper's)."""
+    """Rich table: per task and mode, ours (paper)."""
     from rich.table import Table
 
     t = Table(title="OCTOPUS: ours (paper). CCM is an automated stand-in for the paper's operators")
-    for c in ("task", "mode", "n", "success", "statuses", "max pitch rad", "max roll rad", "min margin m"):
+    cols = ("task", "mode", "success", "paper", "statuses", "max pitch rad", "max roll rad", "min margin m",
+            "track share")
+    for c in cols:
         t.add_column(c)
-    g = group(rows)
     order = {k: i for i, k in enumerate(TASK_ORDER)}
-    for (inst, meth) in sorted(g, key=lambda k: (order.get(k[0], 99), k[0], k[1])):
-        s = task_summary(g[(inst, meth)])
-        p = PAPER.get((inst, meth), {})
-        st = ", ".join(f"{k} {v}" for k, v in sorted(s["statuses"].items()))
-        t.add_row(inst, meth, str(s["n"]), f"{s['success']}/{s['n']} ({p.get('success', '-')})", st,
-                  f"{_f(s['max_pitch'])} ({_f(p.get('max_pitch'))})", f"{_f(s['max_roll'])} ({_f(p.get('max_roll'))})",
-                  f"{_f(s['min_margin'])} ({_f(p.get('min_margin'))})")
+    for ln in _lines(group(rows), order):
+        t.add_row(*[v if isinstance(v, str) else _f(v) for v in (ln[c] for c in cols)])
     return t
 
 
 def sweep_rates(rows: list[dict[str, Any]]) -> dict[str, list[tuple[int, float, int]]]:
-    """method -> [(height mm, success rate, n)] of the sweep rows."""
+    """variant label -> [(height mm, success rate, n)] of the sweep rows."""
     out: dict[str, dict[int, list[int]]] = {}
     for r in rows:
         if not r["instance"].startswith("sweep-h"):
             continue
         h = int(r["instance"][len("sweep-h"):])
-        out.setdefault(r["method"], {}).setdefault(h, []).append(1 if r["status"] == "success" else 0)
+        out.setdefault(r.get("label", r["method"]), {}).setdefault(h, []).append(1 if r["status"] == "success" else 0)
     return {m: [(h, float(np.mean(v)), len(v)) for h, v in sorted(d.items())] for m, d in out.items()}
 
 
@@ -93,92 +160,174 @@ def snapshot_times(ts: dict[str, np.ndarray]) -> list[float]:
     return [max(0.0, t0 - 5.0), t0, 0.5 * (t0 + t1), t1 + 0.5, end]
 
 
-def _snapshots_html(store, rows: list[dict[str, Any]], out_dir: Path) -> str:
-    """One row of rendered frames of the first successful CLM step-400 trial (seed order)."""
-    try:
-        from terrabench.report.render import frame_strip, snapshots
-    except ImportError:
-        return "<h2>Snapshots</h2><p>skipped: terrabench.report.render is not available.</p>"
-    from terrabench.benchmark.trial import TrialSpec
-    from terrabench.systems.octopus.scenarios import SYSTEM
+def _series_figure(plt, ts: dict[str, np.ndarray], r: dict[str, Any], title: str):
+    """Pitch/roll, margins, progress, arm transfers and the mode timeline of one trial."""
+    from terrabench.report.timeline import draw_timelines
 
-    cand = sorted((r for r in rows if r["instance"] == "step-400" and r["method"] == "clm" and r["status"] == "success"),
-                  key=lambda r: r["seed"])
-    if not cand:
-        return "<h2>Snapshots</h2><p>no successful CLM step-400 trial stored.</p>"
-    r = cand[0]
-    times = snapshot_times(store.timeseries(r["key"]))
-    spec = TrialSpec("octopus", SYSTEM.scenario("clm", "step-400"), "clm", "step-400", r["seed"], r["config"])
-    try:
-        frames = snapshots(SYSTEM, spec, times, width=320, height=240, track="chassis")
-    except Exception as e:  # no headless GL on this machine: the report still builds
-        return f"<h2>Snapshots</h2><p>skipped: {html.escape(str(e))}</p>"
-    frame_strip(frames, out_dir / "clm_step400_snapshots.png")
-    return ("<h2>Snapshots: CLM on the 400 mm step (seed %d)</h2><p>t = %s s: walking, step detected (climb "
-            "starts), mid-lift (front flippers on the top), release, the end.</p>"
-            "<img src='clm_step400_snapshots.png'>" % (r["seed"], ", ".join(f"{t:.1f}" for t in times)))
+    t = np.asarray(ts["t"])
+    fig, ax = plt.subplots(5, 1, figsize=(9, 10), sharex=True,
+                           gridspec_kw={"height_ratios": [2, 2, 2, 2, 0.8]})
+    ax[0].plot(t, ts["pitch"], label="pitch")
+    ax[0].plot(t, ts["roll"], label="roll")
+    ax[0].set_ylabel("rad")
+    ax[0].legend(loc="upper left")
+    if "quasi" in ts:
+        q = np.nan_to_num(ts["quasi"]) > 0.5
+        ax[1].plot(t, np.where(q, ts["margin"], np.nan), ".", ms=2, label="static margin (quasi-static)")
+        ax[1].plot(t, np.where(~q, ts["margin_all"], np.nan), ".", ms=2, color="tab:red",
+                   label="all contacts, dynamic instants")
+    else:
+        ax[1].plot(t, ts["margin"], label="margin")
+    ax[1].axhline(0, color="k", lw=0.5)
+    ax[1].set_ylabel("margin m")
+    ax[1].legend(loc="lower left", fontsize="small")
+    ax[2].plot(t, ts["s"], label="progress s")
+    ax[2].plot(t, ts["z"], label="chassis z")
+    if "track_share" in ts:
+        ax[2].plot(t, ts["track_share"], label="track share of load", lw=0.8)
+    ax[2].set_ylabel("m, -")
+    ax[2].legend(loc="upper left", fontsize="small")
+    arms = ("LF", "RF", "LR", "RR")
+    tc = np.nan_to_num(ts["tip_contact"]).astype(int)
+    mv = np.nan_to_num(ts["moving_arm"], nan=-1).astype(int)
+    for i, a in enumerate(arms):
+        ax[3].fill_between(t, i - 0.4, i + 0.4, where=(mv == i), color="tab:red", step="mid",
+                           label="transfer" if i == 0 else None)
+        ax[3].fill_between(t, i - 0.15, i + 0.15, where=((tc >> i) & 1) == 1, color="tab:green", step="mid",
+                           label="tip contact" if i == 0 else None)
+    ax[3].set_yticks(range(4))
+    ax[3].set_yticklabels(arms)
+    ax[3].legend(loc="upper right", fontsize="small")
+    events = [e for e in r["info"].get("events", []) if "." not in str(e[1])]
+    start = "init" if r["method"] == "clm" else "approach"
+    draw_timelines(ax[4], [("mode", events, float(t[-1]))], start=start)
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
 
 
-def write_report(store, out_dir: Path) -> Path:
-    """HTML page: the table, pitch/roll/margin over time per task, gait timeline, sweep, snapshots."""
+def _joints_figure(plt, ts: dict[str, np.ndarray], title: str):
+    """Fig. 14 analogue: the RF and RR joint angles over a trial."""
+    t = np.asarray(ts["t"])
+    fig, ax = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
+    for a, arm in zip(ax, ("RF", "RR")):
+        for j in ("swing", "boom", "elbow"):
+            a.plot(t, ts[f"{arm}_{j}"], label=j)
+        a.set_ylabel(f"{arm} rad")
+        a.legend(loc="upper left", fontsize="small")
+    ax[1].set_xlabel("t s")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def _elbow_figure(plt, ts: dict[str, np.ndarray], title: str):
+    """Fig. 20 analogue: RF joint angles and elbow torque at the block."""
+    t = np.asarray(ts["t"])
+    fig, ax = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
+    for j in ("swing", "boom", "elbow"):
+        ax[0].plot(t, ts[f"RF_{j}"], label=j)
+    ax[0].set_ylabel("RF rad")
+    ax[0].legend(loc="upper left", fontsize="small")
+    ax[1].plot(t, ts["tau_elbow_RF"])
+    ax[1].set_ylabel("RF elbow torque N m")
+    ax[1].set_xlabel("t s")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def write_report(store, out_dir: Path, system: Any = None) -> Path:
+    """HTML page: the table beside the paper, per-task time series with the mode timeline,
+    mode timelines of every trial, joint phases (Fig. 14), elbow torque at the block (Fig. 20),
+    the sweep, snapshots and the provenance block.
+
+    Raises:
+        ValueError: the store holds no octopus trials.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    from terrabench.report.page import Page, provenance_html
+    from terrabench.report.timeline import draw_timelines
+    from terrabench.report.variants import Defaults, find_variants, tag_rows
+
+    if system is None:
+        from terrabench.systems.octopus.scenarios import SYSTEM as system
     rows = store.rows(system="octopus")
-    parts = ["<html><head><meta charset='utf-8'><title>OCTOPUS report</title></head><body>",
-             "<h1>OCTOPUS: compound locomotion mode (CLM) vs crawler-only (CCM)</h1>",
-             "<p>CCM here is an automated flipper step-climbing controller (Nagatani/Okada style), "
-             "not the paper's two human operators. Stability margin: static, COG projection to the "
-             "hull of all ground contacts (evaluation only).</p>"]
-    g = group([r for r in rows if not r["instance"].startswith("sweep-")])
-    parts.append("<h2>Tasks: ours (paper)</h2><table border=1 cellpadding=4><tr><th>task</th><th>mode</th>"
-                 "<th>success</th><th>statuses</th><th>max pitch</th><th>max roll</th><th>min margin</th></tr>")
+    if not rows:
+        raise ValueError(f"no octopus trials in {store.path}; run `terrabench run octopus` first")
+    defaults = Defaults(system)
+    variants = find_variants(rows, default_config=defaults, order=("clm", "ccm"),
+                             label=lambda m: METHOD_LABEL.get(m, m))
+    rows = tag_rows(rows, variants)
+    page = Page(out_dir, "OCTOPUS: compound locomotion mode (CLM) vs crawler-only (CCM)")
+    page.p(html.escape("Chen, Kamezaki et al., ROBOMECH J. 5:2 (2018). Each cell: ours (paper). "
+                       "Max pitch and roll: the extreme over the trials; min margin: the lowest."))
+    page.p(html.escape(CCM_NOTE))
+    page.p(html.escape(MARGIN_NOTE))
+    page.p(html.escape(HEADING_NOTE))
     order = {k: i for i, k in enumerate(TASK_ORDER)}
-    for key in sorted(g, key=lambda k: (order.get(k[0], 99), k[1])):
-        s, p = task_summary(g[key]), PAPER.get(key, {})
-        st = ", ".join(f"{k} {v}" for k, v in sorted(s["statuses"].items()))
-        parts.append(f"<tr><td>{key[0]}</td><td>{key[1]}</td><td>{s['success']}/{s['n']} ({html.escape(str(p.get('success', '-')))})</td>"
-                     f"<td>{st}</td><td>{_f(s['max_pitch'])} ({_f(p.get('max_pitch'))})</td>"
-                     f"<td>{_f(s['max_roll'])} ({_f(p.get('max_roll'))})</td><td>{_f(s['min_margin'])} ({_f(p.get('min_margin'))})</td></tr>")
-    parts.append("</table>")
-    # time series of seed 0 per task and method (Figs. 12, 13, 16, 18 analogues) + gait timeline
-    for key in sorted(g, key=lambda k: (order.get(k[0], 99), k[1])):
-        r0 = sorted(g[key], key=lambda r: r["seed"])[0]
+    tasks = [r for r in rows if not r["instance"].startswith("sweep-")]
+    g = group(tasks)
+    if g:
+        page.h2("Tasks: ours (paper)")
+        page.table(_lines(g, order), LINE_COLUMNS, csv_name="tasks.csv")
+    for key in sorted(g, key=_key_order(order)):
+        rs = sorted(g[key], key=lambda r: r["seed"])
+        r0 = rs[0]
         ts = store.timeseries(r0["key"])
         if not ts:
             continue
-        fig, ax = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
-        ax[0].plot(ts["t"], ts["pitch"], label="pitch"); ax[0].plot(ts["t"], ts["roll"], label="roll")
-        ax[0].set_ylabel("rad"); ax[0].legend()
-        ax[1].plot(ts["t"], ts["margin"]); ax[1].set_ylabel("margin m"); ax[1].axhline(0, color="k", lw=0.5)
-        ax[2].plot(ts["t"], ts["s"], label="progress s"); ax[2].plot(ts["t"], ts["z"], label="z")
-        ax[2].set_ylabel("m"); ax[2].legend()
-        arms = ("LF", "RF", "LR", "RR")
-        tc = np.nan_to_num(ts["tip_contact"]).astype(int)
-        mv = np.nan_to_num(ts["moving_arm"], nan=-1).astype(int)
-        for i, a in enumerate(arms):
-            ax[3].fill_between(ts["t"], i - 0.4, i + 0.4, where=(mv == i), color="tab:red", step="mid", label="transfer" if i == 0 else None)
-            ax[3].fill_between(ts["t"], i - 0.15, i + 0.15, where=((tc >> i) & 1) == 1, color="tab:green", step="mid", label="tip contact" if i == 0 else None)
-        ax[3].set_yticks(range(4)); ax[3].set_yticklabels(arms); ax[3].set_xlabel("t s"); ax[3].legend(loc="upper right")
-        fig.suptitle(f"{key[0]} {key[1]} seed {r0['seed']}: {r0['status']}")
-        name = f"ts_{key[0]}_{key[1]}.png"
-        fig.tight_layout(); fig.savefig(out_dir / name, dpi=80); plt.close(fig)
-        parts.append(f"<h3>{key[0]} / {key[1]} (seed {r0['seed']}, {r0['status']}: {html.escape(str(r0['info'].get('reason', '')))})</h3><img src='{name}'>")
+        slug = f"{key[0]}_{key[1]}".replace("@", "_")
+        label = r0["label"]
+        title = f"{key[0]} {label} seed {r0['seed']}: {r0['status']}"
+        page.h3(html.escape(f"{key[0]} / {label}"))
+        page.figure(_series_figure(plt, ts, r0, title), f"ts_{slug}.png",
+                    html.escape(f"seed {r0['seed']}, {r0['status']}: {r0['info'].get('reason', '')}"), dpi=80)
+        fig, ax = plt.subplots(figsize=(9, 0.45 * len(rs) + 1.2))
+        t_end = {r["key"]: r["metrics"].get("sim_time", 0.0) for r in rs}
+        start = "init" if r0["method"] == "clm" else "approach"
+        draw_timelines(ax, [(f"seed {r['seed']} ({r['status']})",
+                             [e for e in r["info"].get("events", []) if "." not in str(e[1])], t_end[r["key"]])
+                            for r in rs], start=start)
+        ax.set_title(f"{key[0]} {label}: controller modes per trial")
+        page.figure(fig, f"modes_{slug}.png", "controller modes from each trial's stored events", dpi=80)
+        if r0["method"] == "clm" and "RF_swing" in ts:
+            if key[0] == "block-500":
+                page.figure(_elbow_figure(plt, ts, f"{title}: RF arm at the block (Fig. 20)"), f"elbow_{slug}.png",
+                            "RF joint angles and elbow torque (paper Fig. 20)", dpi=80)
+            else:
+                page.figure(_joints_figure(plt, ts, f"{title}: RF and RR joints (Fig. 14)"), f"joints_{slug}.png",
+                            "RF and RR joint angles (paper Fig. 14)", dpi=80)
     rates = sweep_rates(rows)
     if rates:
         fig, ax = plt.subplots(figsize=(6, 4))
         for m, v in rates.items():
             ax.plot([h for h, _, _ in v], [s for _, s, _ in v], "o-", label=m)
-        ax.set_xlabel("step height mm"); ax.set_ylabel("success rate"); ax.set_ylim(-0.05, 1.05); ax.legend()
-        fig.tight_layout(); fig.savefig(out_dir / "sweep.png", dpi=80); plt.close(fig)
-        parts.append("<h2>Step-height sweep</h2><img src='sweep.png'><pre>"
-                     + "\n".join(f"{m}: " + ", ".join(f"{h} mm {s:.0%} (n={n})" for h, s, n in v) for m, v in rates.items())
-                     + "</pre>")
-    parts.append(_snapshots_html(store, rows, out_dir))
-    parts.append("</body></html>")
-    path = out_dir / "index.html"
-    path.write_text("\n".join(parts))
-    return path
+        ax.set_xlabel("step height mm")
+        ax.set_ylabel("success rate")
+        ax.set_ylim(-0.05, 1.05)
+        ax.legend()
+        page.h2("Step-height sweep")
+        page.figure(fig, "sweep.png", "success rate against step height", dpi=80)
+        page.raw("<pre>" + html.escape("\n".join(f"{m}: " + ", ".join(f"{h} mm {s:.0%} (n={n})" for h, s, n in v)
+                                                 for m, v in rates.items())) + "</pre>")
+    cand = sorted((r for r in rows if r["instance"] == "step-400" and r["method"] == "clm"
+                   and r["status"] == "success"), key=lambda r: r["seed"])
+    if cand:
+        from terrabench.benchmark.trial import TrialSpec
+
+        r = cand[0]
+        times = snapshot_times(store.timeseries(r["key"]))
+        spec = TrialSpec("octopus", system.scenario("clm", "step-400"), "clm", "step-400", r["seed"], r["config"])
+        page.h2(html.escape(f"Snapshots: CLM on the 400 mm step (seed {r['seed']})"))
+        page.snapshots("clm_step400_snapshots.png",
+                       html.escape("t = " + ", ".join(f"{t:.1f}" for t in times)
+                                   + " s: walking, step detected (climb starts), mid-lift, release, the end"),
+                       system, spec, times, width=320, height=240, track="chassis")
+    page.h2("Provenance")
+    page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
+    return page.finish()

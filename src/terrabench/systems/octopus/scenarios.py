@@ -77,7 +77,7 @@ class OctopusSystem(System):
     def report(self, store, out_dir: Path) -> Path:
         from terrabench.systems.octopus.report import write_report
 
-        return write_report(store, Path(out_dir))
+        return write_report(store, Path(out_dir), system=self)
 
 
 SYSTEM = OctopusSystem()

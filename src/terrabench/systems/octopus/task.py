@@ -98,6 +98,10 @@ class OctopusTask(TaskBase):
         self.physics = cfg.physics
         self.timing = Timing(pr.control_period, pr.timeout, pr.check_period, pr.log_period)
         self.layout = layout(instance, cfg, seed)
+        # renders of step tasks look from the robot's right side, across the approach axis, so
+        # the robot's front and the edge stay in view (the default view looks through the step)
+        yaw = math.degrees(self.layout.axis_yaw)
+        self.camera = {"azimuth": 90.0 + yaw, "elevation": -12.0} if self.layout.kind != "block" else {}
 
     # ------------------------------------------------------------------ scene
     def build(self, spec: mujoco.MjSpec) -> None:

@@ -141,7 +141,7 @@ def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
     valid = spec.describe(default if default is not None else value)
     if spec.choices is not None:
         if not any(value == c and isinstance(value, bool) == isinstance(c, bool) for c in spec.choices):
-            raise ConfigError(key, value, valid)
+            raise ConfigError(key, value, ", ".join(str(c) for c in spec.choices), problem="is unknown")
         return
     if isinstance(value, (tuple, list)):
         if spec.length is not None and len(value) != spec.length:

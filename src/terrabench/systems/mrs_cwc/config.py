@@ -53,7 +53,7 @@ class ProtocolConfig:
     drop_probe_x: tuple[float, ...] = param((0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5), length=8, unit="m", doc="x positions sampled at the start y for the drop height")
     success_threshold: float = param(0.5, gt=0, unit="m", doc="XY leader-target distance that counts as arrival")
     timeout: float = param(1000.0, gt=0, unit="s", doc="simulated time limit")
-    fall_z: float = param(-50.0, le=0, unit="m", doc="leader below this height has fallen off the world")
+    fall_z: float = param(-50.0, unit="m", doc="leader below this height has fallen off the world (any height)")
     control_period: float = param(0.025, gt=0, unit="s", doc="controller period")
     log_period: float = param(0.1, gt=0, unit="s", doc="period of the stored leader time series")
     divergence_check_period: float = param(0.5, gt=0, unit="s", doc="how often the state is checked for blow-up")

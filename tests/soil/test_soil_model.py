@@ -7,11 +7,20 @@ import pytest
 
 from terrabench.soil.presets import DRY_SAND, HIT_MRII_WHEEL, LUNAR, MARS_SOFT, SOILS, soil
 from terrabench.soil.terramechanics import (
-    SoilParams, WheelParams, bekker_sinkage, kappa_from_slip, solve_sinkage, steady_state, wheel_forces,
+    SoilParams,
+    WheelParams,
+    bekker_sinkage,
+    kappa_from_slip,
+    solve_sinkage,
+    steady_state,
+    wheel_forces,
 )
 
 WHEEL = HIT_MRII_WHEEL
 PRESETS = list(SOILS.values())
+#: the presets without slip-sinkage: their DP rises monotonically and saturates (with
+#: slip-sinkage, mars_very_loose / mars_loose peak and fall: tests/soil/test_soil_physics.py)
+CLASSIC = [MARS_SOFT, DRY_SAND, LUNAR]
 LOAD = 100.0
 
 
@@ -21,7 +30,7 @@ def test_integral_matches_bekker_closed_form(sp):
     # the rim. Same assumptions in the integral: c = 0, phi ~ 0, a0 = a1 = 0. Tolerance 3 %
     # for z/D <= 0.1 (measured: <= 1.5 % for n = 1; n = 1.1 adds Bekker's own series
     # approximation of the (3 - n)/3 factor, -1.3 %).
-    pure = dataclasses.replace(sp, c=0.0, phi_deg=1e-4, a0=0.0, a1=0.0)
+    pure = dataclasses.replace(sp, c=0.0, phi_deg=1e-4, a0=0.0, a1=0.0, c_exit=0.0, c_exit1=0.0, n1=0.0, n2=0.0)
     loads = np.array([5.0, 20.0, 50.0, 100.0])
     z = solve_sinkage(loads, 0.0, pure, WHEEL)
     zb = bekker_sinkage(loads, pure, WHEEL)
@@ -29,7 +38,7 @@ def test_integral_matches_bekker_closed_form(sp):
     np.testing.assert_allclose(z, zb, rtol=0.03)
 
 
-@pytest.mark.parametrize("sp", PRESETS, ids=lambda s: s.name)
+@pytest.mark.parametrize("sp", CLASSIC, ids=lambda s: s.name)
 def test_drawbar_pull_rises_and_saturates(sp):
     s = np.linspace(0.0, 0.95, 20)
     r = steady_state(LOAD, s, sp, WHEEL)
@@ -134,7 +143,7 @@ PINNED = {"mars_soft": (-0.002, 0.084, 0.131), "dry_sand": (0.131, 0.211, 0.244)
           "lunar_regolith": (0.055, 0.155, 0.209)}
 
 
-@pytest.mark.parametrize("sp", PRESETS, ids=lambda s: s.name)
+@pytest.mark.parametrize("sp", CLASSIC, ids=lambda s: s.name)
 def test_dp_coefficient_envelope(sp):
     pc = steady_state(LOAD, np.array(REF_SLIPS), sp, WHEEL)["DP_coeff"]
     assert np.all(np.diff(pc) > 0)

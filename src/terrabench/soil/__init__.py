@@ -1,8 +1,9 @@
 """Wheel-soil terramechanics (Bekker / Wong-Reece / Janosi-Hanamoto) as MuJoCo forces.
 
-See docs/soil.md. Modules: terramechanics (the model), presets (soils with sources), table
-(fast lookup), mujoco_soil (SoilWheels hook), estimation (what a rover can measure),
-testbed (single-wheel rig and sweeps), rover (six-wheel box rover), report (HTML/PNG).
+See docs/soil.md. Modules: terramechanics (the model, one compiled kernel), presets (soils with
+sources), table (fast 3-D look-up), mujoco_soil (SoilWheels hook), estimation (what a rover can
+measure), rover (six-wheel box rover). The single-wheel testbed, the CMU validation and the
+report are the system ``soil`` (terrabench.systems.soil).
 """
 
 from terrabench.soil.estimation import estimated_sinkage, estimated_slip

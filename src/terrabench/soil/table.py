@@ -17,8 +17,17 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from terrabench.soil.terramechanics import _GL_W, _GL_X, SLIP_MAX, SLIP_MIN, SoilParams, WheelParams, _many, \
-    max_sinkage, pack
+from terrabench.soil.terramechanics import (
+    _GL_W,
+    _GL_X,
+    SLIP_MAX,
+    SLIP_MIN,
+    SoilParams,
+    WheelParams,
+    _many,
+    max_sinkage,
+    pack,
+)
 
 
 @numba.njit(cache=True, inline="always")
@@ -83,7 +92,7 @@ class SoilTable:
         data: (nz, ns, nq, 4) array: W (N), DP (N), T (N m), Fy (N).
     """
 
-    def __init__(self, soil: SoilParams, wheel: WheelParams, nz: int = 97, ns: int = 81, nq: int = 25):
+    def __init__(self, soil: SoilParams, wheel: WheelParams, nz: int = 65, ns: int = 81, nq: int = 41):
         for name, v in (("nz", nz), ("ns", ns), ("nq", nq)):
             if int(v) < 2:
                 raise ValueError(f"{name}={v!r} is invalid; valid range: integer >= 2")

@@ -454,15 +454,19 @@ def bekker_sinkage(load, soil: SoilParams, wheel: WheelParams):
 
 
 def steady_state(load, s, soil: SoilParams, wheel: WheelParams, omega: float = 1.0, q=0.0):
-    """Analytic steady state of a wheel carrying ``load`` at slip ``s`` and spin ``omega``.
+    """Analytic steady state of a wheel carrying ``load`` at slip ``s``; ``omega`` (rad/s) sets
+    the speed scale: driving, the wheel spins at omega and moves at ``v = (1 - s) r omega``; in
+    skid it moves at ``v = r omega`` and spins at ``(1 + s) omega`` (0 when locked).
 
     Returns a dict of arrays: sinkage_m, DP_N, torque_Nm, DP_coeff (DP/W), efficiency
-    ((DP v)/(T omega), v = kappa r omega; nan where T <= 0), v_mps, Fy_N, W_N.
+    ((DP v)/(T omega_wheel); nan where T <= 0), v_mps, omega_rps, Fy_N, W_N.
     """
     z = solve_sinkage(load, s, soil, wheel, q)
     f = wheel_forces(z, s, soil, wheel, q)
+    sb = np.broadcast_to(np.asarray(s, float), z.shape)
+    v = np.where(sb >= 0, 1.0 - sb, 1.0) * wheel.radius * omega
+    w = np.where(sb >= 0, 1.0, 1.0 + sb) * omega
     with np.errstate(divide="ignore", invalid="ignore"):
-        v = kappa_from_slip(np.broadcast_to(s, z.shape)) * wheel.radius * omega
-        eff = np.where(f["T"] > 0, f["DP"] * v / (f["T"] * omega), np.nan)
+        eff = np.where(f["T"] > 0, f["DP"] * v / (f["T"] * w), np.nan)
     return {"sinkage_m": z, "DP_N": f["DP"], "torque_Nm": f["T"], "DP_coeff": f["DP"] / np.asarray(load, float),
-            "efficiency": eff, "v_mps": v, "W_N": f["W"], "Fy_N": f["Fy"]}
+            "efficiency": eff, "v_mps": v, "omega_rps": w, "W_N": f["W"], "Fy_N": f["Fy"]}

@@ -5,6 +5,11 @@ Instances are ``SOIL/W<load N>/s<slip>`` (e.g. ``mars_soft/W100/s0.20``); the gr
 episode loop's per-substep hook) and ``analytic`` (the steady-state equations directly). The
 soil ``custom`` takes its parameters from the ``custom_soil`` config section, e.g.
 ``--terrains custom/W100/s0.3 --set custom_soil.phi_deg=33``.
+
+The group ``cmu-smooth`` holds one instance per measured CMU trial, ``cmu/b<slip angle>/t<trial>``
+(e.g. ``cmu/b30/t012``), run by the methods ``cmu-authors`` and ``cmu-fit-b0`` (the two parameter
+sets of :mod:`terrabench.systems.soil.cmu`); each trial stores the measured and the modelled
+drawbar pull, lateral force and sinkage (and the modelled torque: none was measured).
 """
 
 from __future__ import annotations
@@ -15,19 +20,24 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
+import numpy as np
+
 from terrabench.benchmark.trial import TrialResult, TrialSpec
 from terrabench.config import to_dict
 from terrabench.soil.presets import HIT_MRII_WHEEL, MARS_SOFT, SOILS
 from terrabench.soil.terramechanics import SoilParams, WheelParams, steady_state
-from terrabench.soil.testbed import GRAVITY, RigConfig
 from terrabench.systems.base import MethodInfo, System, check_finite_positive
+from terrabench.systems.soil.task import GRAVITY, RigConfig
 
 SCENARIO = "soil/single-wheel-v1"
 LOADS = (50.0, 100.0, 150.0, 370.0)
-SLIPS = (-0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
-#: documented slip range of an instance: skid down to -0.9, slip up to 1 (spinning in place)
-SLIP_RANGE = (-0.9, 1.0)
+SLIPS = (-1.0, -0.5, -0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
+#: documented slip range of an instance: -1 (locked wheel) to 1 (spinning in place)
+SLIP_RANGE = (-1.0, 1.0)
 _ID = re.compile(r"(?P<soil>[a-z_]+)/W(?P<load>[0-9.]+)/s(?P<slip>-?[0-9.]+)")
+_CMU_ID = re.compile(r"cmu/b(?P<beta>[0-9]+)/t(?P<trial>[0-9]+)")
+CMU_METHODS = ("cmu-authors", "cmu-fit-b0")
+RIG_METHODS = ("rig", "analytic")
 
 
 @dataclass(frozen=True)
@@ -76,13 +86,39 @@ def instance_id(soil: str, load: float, slip: float) -> str:
     return f"{soil}/W{load:g}/s{slip:.2f}"
 
 
+def parse_cmu(iid: str) -> int:
+    """``"cmu/b30/t012"`` -> trial index 12 (checked against the data); ValueError otherwise."""
+    from terrabench.systems.soil.cmu import points
+
+    m = _CMU_ID.fullmatch(iid)
+    if not m:
+        raise ValueError(f"cmu instance {iid!r} must look like cmu/b<slip angle>/t<trial>, e.g. cmu/b30/t012")
+    p = points()
+    trial = int(m["trial"])
+    if not 0 <= trial < len(p["trial"]):
+        raise ValueError(f"trial {trial} in {iid!r} is out of range; valid: 0..{len(p['trial']) - 1}")
+    beta = int(p["beta_deg"][trial])
+    if int(m["beta"]) != beta:
+        raise ValueError(f"trial {trial} in {iid!r} was run at slip angle {beta} deg, not {m['beta']}")
+    return trial
+
+
+def cmu_instances() -> list[str]:
+    from terrabench.systems.soil.cmu import points
+
+    p = points()
+    order = np.lexsort((p["slip"], p["beta_deg"]))
+    return [f"cmu/b{int(p['beta_deg'][i])}/t{int(p['trial'][i]):03d}" for i in order]
+
+
 class SoilSystem(System):
     """Single-wheel terramechanics testbed (drawbar pull, torque, sinkage vs slip and load)."""
 
     id = "soil"
     summary = "Single rigid wheel on loose soil (Bekker / Wong-Reece / Janosi): slip and load sweeps"
     config_cls = SoilTestbedConfig
-    groups = {"single-wheel": f"{len(SOILS)} soils x loads {LOADS} N x slips {SLIPS[0]}..{SLIPS[-1]}"}
+    groups = {"single-wheel": f"{len(SOILS)} soils x loads {LOADS} N x slips {SLIPS[0]}..{SLIPS[-1]}",
+              "cmu-smooth": "the 189 measured CMU smooth-wheel trials (slip -1..0.9, slip angle 0-90 deg) beside the model"}
     default_group = "single-wheel"
     headline_metrics = ("DP_N", "torque_Nm", "sinkage_m", "DP_coeff", "efficiency")
     perf_instances = ("mars_soft/W100/s0.20",)
@@ -90,24 +126,53 @@ class SoilSystem(System):
 
     def methods(self) -> dict[str, MethodInfo]:
         return {"rig": MethodInfo("rig", "MuJoCo single-wheel rig, soil forces in the per-substep hook", ("mujoco",)),
-                "analytic": MethodInfo("analytic", "steady-state terramechanics equations directly", ("analytic",))}
+                "analytic": MethodInfo("analytic", "steady-state terramechanics equations directly", ("analytic",)),
+                "cmu-authors": MethodInfo("cmu-authors", "CMU trial vs the model with the authors' tuned parameters",
+                                          ("cmu",)),
+                "cmu-fit-b0": MethodInfo("cmu-fit-b0", "CMU trial vs the model fitted on slip angle 0", ("cmu",))}
 
     def default_methods(self) -> list[str]:
-        return ["rig", "analytic"]
+        return list(RIG_METHODS + CMU_METHODS)
 
     def instances(self, group: str | None) -> list[str]:
-        return [instance_id(s, w, sl) for s in SOILS for w in LOADS for sl in SLIPS]
+        grid = [instance_id(s, w, sl) for s in SOILS for w in LOADS for sl in SLIPS]
+        if group == "single-wheel":
+            return grid
+        if group == "cmu-smooth":
+            return cmu_instances()
+        return grid + cmu_instances()
 
     def select_instances(self, ids: Sequence[str]) -> list[str]:
         items = [i for i in ids if i]
         if not items:
-            raise ValueError("soil instances: an empty list was given; e.g. mars_soft/W100/s0.2")
-        return [instance_id(*parse_instance(i)) for i in items]
+            raise ValueError("soil instances: an empty list was given; e.g. mars_soft/W100/s0.2 or cmu/b30/t012")
+        out = []
+        for i in items:
+            if i.startswith("cmu/"):
+                t = parse_cmu(i)
+                out.append(f"cmu/b{i.split('/')[1][1:]}/t{t:03d}")
+            else:
+                out.append(instance_id(*parse_instance(i)))
+        return out
+
+    def seeds_for(self, method: str, instance: str, config: dict[str, Any], seeds: int) -> range:
+        # the CMU parameter sets run only on CMU trials, the rig and the equations only on the grid
+        is_cmu = instance.startswith("cmu/")
+        return range(1) if (method in CMU_METHODS) == is_cmu else range(0)
 
     def scenario(self, method: str, instance: str) -> str:
         return SCENARIO
 
     def trial_config(self, method: str, instance: str, cfg: SoilTestbedConfig) -> dict[str, Any]:
+        if instance.startswith("cmu/"):
+            from terrabench.systems.soil.cmu import points, soil_for
+
+            if method not in CMU_METHODS:
+                return to_dict(cfg)  # not run (seeds_for is empty)
+            beta = int(points()["beta_deg"][parse_cmu(instance)])
+            return to_dict(replace(cfg, soil=soil_for(method, beta)))
+        if method in CMU_METHODS:
+            return to_dict(cfg)  # not run
         soil, load, _ = parse_instance(instance)
         if not load > cfg.wheel.mass * GRAVITY:
             raise ValueError(f"load {load} N in {instance!r} must exceed the wheel's weight "
@@ -124,21 +189,42 @@ class SoilSystem(System):
     def make_controller(self, spec: TrialSpec, cfg: SoilTestbedConfig, task):
         from terrabench.systems.soil.task import RigController
 
-        return RigController(task.v, task.rig.omega)
+        return RigController(task.v, task.omega)
 
     def run_trial(self, spec: TrialSpec, *, on_step=None) -> TrialResult:
         if spec.method == "rig":
             return super().run_trial(spec, on_step=on_step)
+        if spec.method in CMU_METHODS:
+            return self._run_cmu(spec)
         t0 = time.perf_counter()
         cfg = self.load_config(spec.config)
         soil, omega = cfg.soil, cfg.rig.omega
         _, load, slip = parse_instance(spec.instance)
         r = steady_state(load, slip, soil, cfg.wheel, omega)
-        dp, tq, v = float(r["DP_N"]), float(r["torque_Nm"]), float(r["v_mps"])
+        dp, tq = float(r["DP_N"]), float(r["torque_Nm"])
         metrics = {"DP_N": dp, "torque_Nm": tq, "sinkage_m": float(r["sinkage_m"]), "slip_measured": slip,
-                   "DP_coeff": dp / load, "efficiency": dp * v / (tq * omega) if tq > 0 else float("nan"),
+                   "DP_coeff": dp / load, "efficiency": float(r["efficiency"]),
                    "load_N": load, "slip": slip}
         return TrialResult("done", metrics, {}, time.perf_counter() - t0, {"soil": soil.name, "source": soil.source})
+
+    def _run_cmu(self, spec: TrialSpec) -> TrialResult:
+        from terrabench.systems.soil import cmu
+
+        t0 = time.perf_counter()
+        i = parse_cmu(spec.instance)
+        p = cmu.points()
+        m = cmu.model_point(spec.method, i)
+        fitted = spec.method == "cmu-fit-b0" and int(p["beta_deg"][i]) in cmu.FIT_BETAS
+        metrics = {"beta_deg": float(p["beta_deg"][i]), "slip": float(p["slip"][i]), "slip_model": float(p["s"][i]),
+                   "lateral_ratio": float(min(p["C"][i], 1e6)), "load_N": float(p["load_N"][i]),
+                   "DP_meas_N": float(p["DP_N"][i]), "lateral_meas_N": float(p["lateral_N"][i]),
+                   "sinkage_meas_m": float(p["sinkage_m"][i]), "DP_N": m["DP_N"], "lateral_N": m["lateral_N"],
+                   "sinkage_m": m["sinkage_m"], "torque_Nm": m["torque_Nm"], "sinkage_capped": m["sinkage_capped"],
+                   "fitted": float(fitted), "DP_coeff": m["DP_N"] / float(p["load_N"][i])}
+        cfg = self.load_config(spec.config)
+        return TrialResult("done", metrics, {}, time.perf_counter() - t0,
+                           {"soil": cfg.soil.name, "source": cfg.soil.source, "data": "robomechanics/3d-terramechanics "
+                            "all_smooth_data.mat (MIT)", "trial": i})
 
     def summarize(self, rows: list[dict[str, Any]]):
         from terrabench.systems.soil.report import summary_table
@@ -148,7 +234,7 @@ class SoilSystem(System):
     def report(self, store, out_dir: Path) -> Path:
         from terrabench.systems.soil.report import write_report
 
-        return write_report(store, Path(out_dir))
+        return write_report(store, Path(out_dir), system=self)
 
 
 SYSTEM = SoilSystem()

@@ -1,6 +1,6 @@
 """The single-wheel testbed as a hallway Task: the soil forces enter through ``before_substep``.
 
-The rig (:func:`terrabench.soil.testbed.add_rig`) holds a wheel under a vertical load on a
+The rig (:func:`add_rig`: carriage, sled, wheel, two velocity servos) holds a wheel under a vertical load on a
 carriage; the carriage's speed servo imposes the slip, the wheel's servo a constant spin. Every
 physics step, :class:`~terrabench.soil.mujoco_soil.SoilWheels` replaces the wheel's rigid
 contact with the terramechanics forces. After ``settle_s`` the log is averaged over
@@ -11,6 +11,7 @@ slip the rig actually ran at.
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -19,9 +20,54 @@ from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.soil.mujoco_soil import SoilWheels, flat_ground
 from terrabench.soil.table import SoilTable
-from terrabench.soil.terramechanics import SoilParams, WheelParams, kappa_from_slip
-from terrabench.soil.testbed import RigConfig, add_rig
+from terrabench.soil.terramechanics import SoilParams, WheelParams
 from terrabench.systems.base import TaskBase
+
+GRAVITY = 9.81
+
+
+@dataclass(frozen=True)
+class RigConfig:
+    """Testbed settings.
+
+    Attributes:
+        omega: wheel spin when driving; in skid the hub moves at r omega and the wheel spins at
+            (1 + s) omega (rad/s), > 0.
+        timestep: MuJoCo step (s), > 0.
+        settle_s: time before averaging (s), > 0.  average_s: averaging window (s), > 0.
+        kv_carriage: carriage velocity-servo gain (N s/m), > 0.  kv_wheel: wheel servo gain (N m s/rad), > 0.
+        carriage_mass: (kg), > 0; moves horizontally only, not part of the load.
+    """
+
+    omega: float = 1.0  # range: > 0 rad/s
+    timestep: float = 0.001  # range: > 0 s
+    settle_s: float = 1.5  # range: > 0 s
+    average_s: float = 0.5  # range: > 0 s
+    kv_carriage: float = 2e5  # range: > 0 N s/m
+    kv_wheel: float = 2e4  # range: > 0 N m s/rad
+    carriage_mass: float = 5.0  # range: > 0 kg
+
+
+def add_rig(spec: mujoco.MjSpec, wheel: WheelParams, load: float, cfg: RigConfig = RigConfig()) -> None:
+    """Add the rig (carriage, sled, wheel, two velocity servos) for a vertical ``load`` (N) to ``spec``."""
+    sled_mass = load / GRAVITY - wheel.mass
+    if sled_mass <= 0:
+        raise ValueError(f"load={load!r} is invalid; valid range: load > wheel weight {wheel.mass * GRAVITY:.3g} N")
+    car = spec.worldbody.add_body(name="carriage", pos=[0, 0, wheel.radius])
+    car.add_joint(name="carriage_x", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
+    car.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.05, 0.05, 0.02], pos=[0, 0, 0.3],
+                 mass=cfg.carriage_mass, contype=0, conaffinity=0)
+    sled = car.add_body(name="sled")
+    sled.add_joint(name="sled_z", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
+    sled.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.03, 0.03, 0.03], pos=[0, 0, 0.15],
+                  mass=sled_mass, contype=0, conaffinity=0)
+    wb = sled.add_body(name="wheel")
+    wb.add_joint(name="wheel_spin", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
+    wb.add_geom(name="wheel", type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[wheel.radius, wheel.width / 2, 0],
+                quat=[np.sqrt(0.5), np.sqrt(0.5), 0, 0], mass=wheel.mass)
+    for name, joint, kv in (("carriage_servo", "carriage_x", cfg.kv_carriage), ("wheel_servo", "wheel_spin", cfg.kv_wheel)):
+        act = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        act.set_to_velocity(kv=kv)
 
 @functools.lru_cache(maxsize=8)
 def soil_table(soil: SoilParams, wheel: WheelParams) -> SoilTable:
@@ -44,7 +90,9 @@ class RigTask(TaskBase):
         # the protocol ends the trial (status done, in check); the time limit is only a backstop
         self.duration = rig.settle_s + rig.average_s
         self.timing = Timing(control_period, self.duration + 2 * control_period, control_period, control_period)
-        self.v = float(kappa_from_slip(slip)) * wheel.radius * rig.omega
+        # driving: the wheel spins at omega; skid: the hub moves at r omega (locked wheel: spin 0)
+        self.v = (1.0 - slip if slip >= 0 else 1.0) * wheel.radius * rig.omega
+        self.omega = (1.0 if slip >= 0 else 1.0 + slip) * rig.omega
 
     def build(self, spec: mujoco.MjSpec) -> None:
         spec.modelname = f"single_wheel_{self.soil.name}"
@@ -59,7 +107,7 @@ class RigTask(TaskBase):
         cdof, wdof = model.joint("carriage_x").dofadr[0], model.joint("wheel_spin").dofadr[0]
         # start at the static sinkage, moving: the transient is not what the sweep measures
         data.qpos[model.joint("sled_z").qposadr[0]] = -table.static_sinkage(self.load)
-        data.qvel[cdof], data.qvel[wdof] = self.v, self.rig.omega
+        data.qvel[cdof], data.qvel[wdof] = self.v, self.omega
         mujoco.mj_forward(model, data)
         self._dofs = (cdof, wdof)
         return data

@@ -16,18 +16,20 @@ def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
 
 _SX = np.array([CORNER[k][0] for k in ARMS], float)
 _SY = np.array([CORNER[k][1] for k in ARMS], float)
+_SXL, _SYL = _SX.tolist(), _SY.tolist()
 
 
 def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
-    """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` in one numpy pass."""
-    sw, bm, el = q_arm[:, 0], q_arm[:, 1], q_arm[:, 2]
+    """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four, on
+    Python floats (numpy's per-call cost exceeds this arithmetic)."""
     mx, my, mz = cfg.arm_mount
-    reach = cfg.l1 * np.cos(bm) + cfg.l2 * np.cos(bm + el)
-    out = np.empty((4, 3))
-    out[:, 0] = _SX * mx + reach * np.sin(sw)
-    out[:, 1] = _SY * (my + reach * np.cos(sw))
-    out[:, 2] = mz + 0.04 - cfg.l1 * np.sin(bm) - cfg.l2 * np.sin(bm + el)
-    return out
+    l1, l2, z0 = cfg.l1, cfg.l2, mz + 0.04
+    out = []
+    for (sw, bm, el), sx, sy in zip(q_arm.tolist(), _SXL, _SYL):
+        reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
+        out.append((sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
+                    z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)))
+    return np.array(out)
 
 
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
@@ -57,9 +59,8 @@ def rotation_rc(roll: float, pitch: float) -> np.ndarray:
     """
     cr, sr = math.cos(roll), math.sin(roll)
     cp, sp = math.cos(-pitch), math.sin(-pitch)
-    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
-    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
-    return ry @ rx
+    # Ry(-pitch) @ Rx(roll), multiplied out
+    return np.array([[cp, sp * sr, sp * cr], [0.0, cr, -sr], [-sp, cp * sr, cp * cr]])
 
 
 def tips_level(q_arm: np.ndarray, roll: float, pitch: float, cfg: RobotConfig) -> np.ndarray:

@@ -61,27 +61,36 @@ class CCMConfig:
     """
 
     track_speed: float = param(0.1, gt=0, unit="m/s", doc="crawler speed")
-    front_approach: float = param(0.95, ge=-math.pi, le=math.pi, unit="rad", doc="front flipper angle held while approaching")
-    settle_time: float = param(0.5, ge=0, unit="s", doc="flippers within settle_tol this long before the torque rule counts")
+    front_approach: float = param(0.95, ge=-math.pi, le=math.pi, unit="rad",
+                                  doc="front flipper angle held while approaching")
+    settle_time: float = param(0.5, ge=0, unit="s",
+                               doc="flippers within settle_tol this long before the torque rule counts")
     settle_tol: float = param(0.05, gt=0, unit="rad", doc="flipper settle tolerance")
     t0: float = param(40.0, gt=0, unit="N m", doc="flipper torque threshold of the paper's rule")
     d_a: float = param(0.02, gt=0, unit="rad/tick", doc="flipper raise step of the torque rule")
     a0: float = param(1.0, ge=-math.pi, le=math.pi, unit="rad", doc="flipper climbing angle limit of the torque rule")
     d_b: float = param(0.02, gt=0, unit="rad/tick", doc="flipper lower step of the torque rule")
-    press_pitch: float = param(0.15, ge=0, le=math.pi / 2, unit="rad", doc="pitch that starts pressing the front flippers down")
-    front_press: float = param(-0.4, ge=-math.pi, le=math.pi, unit="rad", doc="lowest front flipper target while pressing")
-    rear_push: float = param(-0.9, ge=-math.pi, le=math.pi, unit="rad", doc="rear flipper target while pushing (< 0 pushes the rear up)")
+    press_pitch: float = param(0.15, ge=0, le=math.pi / 2, unit="rad",
+                               doc="pitch that starts pressing the front flippers down")
+    front_press: float = param(-0.4, ge=-math.pi, le=math.pi, unit="rad",
+                               doc="lowest front flipper target while pressing")
+    rear_push: float = param(-0.9, ge=-math.pi, le=math.pi, unit="rad",
+                             doc="rear flipper target while pushing (< 0 pushes the rear up)")
     push_pitch: float = param(0.3, ge=0, le=math.pi / 2, unit="rad", doc="pitch above which the rear flippers push")
-    flatten_pitch: float = param(0.1, ge=0, le=math.pi / 2, unit="rad", doc="while pushing, the rear flippers relax below this pitch")
+    flatten_pitch: float = param(0.1, ge=0, le=math.pi / 2, unit="rad",
+                                 doc="while pushing, the rear flippers relax below this pitch")
     level_time: float = param(1.0, ge=0, unit="s", doc="level this long while pushing = on the top")
     abort_pitch: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="pitch at which the climb is aborted")
-    stall_time: float = param(6.0, gt=0, unit="s", doc="pressing or pushing this long without a new pitch peak is a stall")
+    stall_time: float = param(6.0, gt=0, unit="s",
+                              doc="pressing or pushing this long without a new pitch peak is a stall")
     back_time: float = param(3.0, ge=0, unit="s", doc="a stall backs off this long, then approaches again")
     retries: int = param(2, ge=0, doc="back-offs before the controller keeps pushing to the end")
     retry_pitch: float = param(0.3, ge=0, unit="rad", doc="extra press pitch per retry")
     d_flip: float = param(0.03, gt=0, unit="rad/tick", doc="flipper step toward a target per tick")
-    stowed_arm: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=-math.pi, le=math.pi, unit="rad", doc="(swing, boom, elbow) of the front arms")
-    lifted_arm: tuple[float, float, float] = param((-1.2, -1.1, 2.4), length=3, ge=-math.pi, le=math.pi, unit="rad", doc="(swing, boom, elbow) of the rear arms")
+    stowed_arm: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=-math.pi, le=math.pi, unit="rad",
+                                                   doc="(swing, boom, elbow) of the front arms")
+    lifted_arm: tuple[float, float, float] = param((-1.2, -1.1, 2.4), length=3, ge=-math.pi, le=math.pi, unit="rad",
+                                                   doc="(swing, boom, elbow) of the rear arms")
 
 
 class CCMController:

@@ -374,7 +374,8 @@ class CLMController:
             # the free-motion reference follows the slow changes (gravity, servo lag, the IK's
             # posture): a contact is a jump above it
             self.tau_ref[i] += cfg.tau_filter * (obs.tau_elbow[i] - self.tau_ref[i])
-            new_ph, c = (4 if self.low_z[i] < tz - cfg.pit_depth else 3), ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
+            new_ph = 4 if self.low_z[i] < tz - cfg.pit_depth else 3
+            c = ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
         else:
             new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
         if ph == 2 and new_ph == 3:

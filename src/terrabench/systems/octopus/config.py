@@ -33,9 +33,11 @@ class SceneConfig:
 
     step_height: float = param(0.4, gt=0, unit="m", doc="height of the step-400 instance's step (<= max_step_height)")
     max_step_height: float = param(0.6, gt=0, unit="m", doc="the largest step any instance may have")
-    terrace_heights: tuple[float, float] = param((0.2, 0.2), length=2, gt=0, unit="m", doc="rises of the two-terrace step")
+    terrace_heights: tuple[float, float] = param((0.2, 0.2), length=2, gt=0, unit="m",
+                                                 doc="rises of the two-terrace step")
     terrace_tread: float = param(0.45, gt=0, unit="m", doc="depth of the lower terrace")
-    side_yaw_deg: float = param(25.0, ge=-90, le=90, unit="deg", doc="approach angle of terrace2-side to the edges' normal")
+    side_yaw_deg: float = param(25.0, ge=-90, le=90, unit="deg",
+                                doc="approach angle of terrace2-side to the edges' normal")
     block_height: float = param(0.5, gt=0, unit="m", doc="rough-road block height")
     block_length: float = param(0.6, gt=0, unit="m", doc="rough-road block length")
     block_width: float = param(0.5, gt=0, unit="m", doc="rough-road block width")

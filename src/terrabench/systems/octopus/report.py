@@ -190,7 +190,7 @@ def _series_figure(plt, ts: dict[str, np.ndarray], r: dict[str, Any], title: str
     arms = ("LF", "RF", "LR", "RR")
     tc = np.nan_to_num(ts["tip_contact"]).astype(int)
     mv = np.nan_to_num(ts["moving_arm"], nan=-1).astype(int)
-    for i, a in enumerate(arms):
+    for i in range(len(arms)):
         ax[3].fill_between(t, i - 0.4, i + 0.4, where=(mv == i), color="tab:red", step="mid",
                            label="transfer" if i == 0 else None)
         ax[3].fill_between(t, i - 0.15, i + 0.15, where=((tc >> i) & 1) == 1, color="tab:green", step="mid",

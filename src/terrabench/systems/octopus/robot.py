@@ -127,7 +127,8 @@ class RobotConfig:
     pulley_r: float = param(0.09, gt=0, unit="m", doc="main-track pulley radius")
     track_y: float = param(0.22, gt=0, unit="m", doc="main-track centre line at +-track_y")
     track_w: float = param(0.1, gt=0, unit="m", doc="main-track width")
-    chassis_half: tuple[float, float, float] = param((0.25, 0.17, 0.09), length=3, gt=0, unit="m", doc="chassis box half sizes")
+    chassis_half: tuple[float, float, float] = param((0.25, 0.17, 0.09), length=3, gt=0, unit="m",
+                                                     doc="chassis box half sizes")
     chassis_z: float = param(0.06, ge=0, unit="m", doc="chassis centre above the pulley axis")
     chassis_mass: float = param(56.0, gt=0, unit="kg", doc="chassis mass")
     flipper_len: float = param(0.25, gt=0, unit="m", doc="flipper pivot to tip pulley")
@@ -135,28 +136,40 @@ class RobotConfig:
     flipper_y: float = param(0.31, gt=0, unit="m", doc="flipper centre line at +-flipper_y")
     flipper_w: float = param(0.06, gt=0, unit="m", doc="flipper width")
     flipper_mass: float = param(3.0, gt=0, unit="kg", doc="mass of each flipper")
-    flipper_range: tuple[float, float] = param((-1.2, 1.4835), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="flipper joint range (lower, upper)")
+    flipper_range: tuple[float, float] = param((-1.2, 1.4835), length=2, ge=-math.pi, le=math.pi, unit="rad",
+                                               doc="flipper joint range (lower, upper)")
     flipper_torque: float = param(250.0, gt=0, unit="N m", doc="flipper actuator torque limit")
     flipper_kp: float = param(3000.0, gt=0, unit="N m/rad", doc="flipper position gain")
-    arm_mount: tuple[float, float, float] = param((0.2, 0.17, 0.15), length=3, ge=0, unit="m", doc="arm base at (+-x, +-y, z) in the chassis frame")
+    arm_mount: tuple[float, float, float] = param((0.2, 0.17, 0.15), length=3, ge=0, unit="m",
+                                                  doc="arm base at (+-x, +-y, z) in the chassis frame")
     l1: float = param(0.45, gt=0, unit="m", doc="boom length")
     l2: float = param(0.45, gt=0, unit="m", doc="forearm length")
     d3: float = param(0.0, ge=0, unit="m", doc="lateral offset of the forearm")
     link_r: float = param(0.03, gt=0, unit="m", doc="arm link capsule radius")
     tip_r: float = param(0.04, gt=0, unit="m", doc="arm tip sphere radius")
-    link_mass: tuple[float, float, float] = param((2.5, 1.5, 0.5), length=3, gt=0, unit="kg", doc="(boom, forearm, tip) masses")
-    swing_range: tuple[float, float] = param((-1.3, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="swing joint range (lower, upper)")
-    boom_range: tuple[float, float] = param((-1.2, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="boom joint range (lower, upper)")
-    elbow_range: tuple[float, float] = param((-0.3, 2.6), length=2, ge=-math.pi, le=math.pi, unit="rad", doc="elbow joint range (lower, upper)")
-    arm_torque: tuple[float, float, float] = param((100.0, 300.0, 150.0), length=3, gt=0, unit="N m", doc="(swing, boom, elbow) torque limits")
-    arm_kp: tuple[float, float, float] = param((800.0, 2500.0, 1500.0), length=3, gt=0, unit="N m/rad", doc="(swing, boom, elbow) position gains")
+    link_mass: tuple[float, float, float] = param((2.5, 1.5, 0.5), length=3, gt=0, unit="kg",
+                                                  doc="(boom, forearm, tip) masses")
+    swing_range: tuple[float, float] = param((-1.3, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad",
+                                             doc="swing joint range (lower, upper)")
+    boom_range: tuple[float, float] = param((-1.2, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad",
+                                            doc="boom joint range (lower, upper)")
+    elbow_range: tuple[float, float] = param((-0.3, 2.6), length=2, ge=-math.pi, le=math.pi, unit="rad",
+                                             doc="elbow joint range (lower, upper)")
+    arm_torque: tuple[float, float, float] = param((100.0, 300.0, 150.0), length=3, gt=0, unit="N m",
+                                                   doc="(swing, boom, elbow) torque limits")
+    arm_kp: tuple[float, float, float] = param((800.0, 2500.0, 1500.0), length=3, gt=0, unit="N m/rad",
+                                               doc="(swing, boom, elbow) position gains")
     arm_damping: float = param(20.0, ge=0, unit="N m s/rad", doc="joint damping of the arm joints")
     roller_damping: float = param(0.02, ge=0, unit="N m s/rad", doc="joint damping of the tip rollers")
     friction: float = param(1.0, ge=0, doc="sliding friction of the robot geoms (tracks, tips)")
-    link_friction: float = param(0.3, ge=0, doc="sliding friction of the arm links (boom, forearm); their contacts use it (priority 1)")
-    tip_solref: tuple[float, float] = param((0.008, 1.0), length=2, gt=0, unit="s, -", doc="arm-tip contact time constant and damping ratio (priority 1)")
-    joint_speed: tuple[float, float, float, float] = param((4.4, 4.4, 4.4, 4.4), length=4, gt=0, unit="rad/s", doc="speed limits of (flipper, swing, boom, elbow)")
-    track_power: float = param(300.0, gt=0, unit="W", doc="crawler drive power limit per side (main track + its two flippers)")
+    link_friction: float = param(0.3, ge=0,
+                                 doc="sliding friction of the arm links (boom, forearm); their contacts use it (priority 1)")
+    tip_solref: tuple[float, float] = param((0.008, 1.0), length=2, gt=0, unit="s, -",
+                                            doc="arm-tip contact time constant and damping ratio (priority 1)")
+    joint_speed: tuple[float, float, float, float] = param((4.4, 4.4, 4.4, 4.4), length=4, gt=0, unit="rad/s",
+                                                           doc="speed limits of (flipper, swing, boom, elbow)")
+    track_power: float = param(300.0, gt=0, unit="W",
+                               doc="crawler drive power limit per side (main track + its two flippers)")
 
 
 def _surface(geom, lin=(0.0, 0.0, 0.0), ang=(0.0, 0.0, 0.0)) -> None:

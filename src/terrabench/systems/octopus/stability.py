@@ -5,6 +5,8 @@ Evaluation-only ground truth (the task computes it from MuJoCo contacts); contro
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -51,23 +53,26 @@ def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     the points' hull (a segment or a point), i.e. never positive.
     """
     hull = convex_hull(support_xy)
-    c = np.asarray(cog_xy, float)
     if len(hull) == 0:
         return float("nan")
-    if len(hull) == 1:
-        return -float(np.hypot(*(c - hull[0])))
-    if len(hull) == 2:
-        return -float(_seg_dists(c, hull[:1], hull[1:])[0])
-    a, b = hull, np.roll(hull, -1, axis=0)
-    d = float(_seg_dists(c, a, b).min())
-    e, w = b - a, c - a
-    inside = bool((e[:, 0] * w[:, 1] - e[:, 1] * w[:, 0] >= 0).all())
+    cx, cy = float(cog_xy[0]), float(cog_xy[1])
+    pts = hull.tolist()
+    if len(pts) == 1:
+        return -math.hypot(cx - pts[0][0], cy - pts[0][1])
+    if len(pts) == 2:
+        return -_seg_dist(cx, cy, pts[0], pts[1])
+    # plain floats over the (few) hull edges: numpy's per-call cost exceeds this arithmetic
+    d, inside = math.inf, True
+    for a, b in zip(pts, pts[1:] + pts[:1]):
+        d = min(d, _seg_dist(cx, cy, a, b))
+        if (b[0] - a[0]) * (cy - a[1]) - (b[1] - a[1]) * (cx - a[0]) < 0:
+            inside = False
     return d if inside else -d
 
 
-def _seg_dists(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distances from p (2,) to the segments a[i]-b[i] (k, 2) each."""
-    ab, ap = b - a, p - a
-    t = np.clip((ap * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-18), 0.0, 1.0)
-    q = a + t[:, None] * ab
-    return np.hypot(p[0] - q[:, 0], p[1] - q[:, 1])
+def _seg_dist(px: float, py: float, a, b) -> float:
+    """Distance from (px, py) to the segment a-b."""
+    ex, ey = b[0] - a[0], b[1] - a[1]
+    den = ex * ex + ey * ey
+    u = 0.0 if den < 1e-18 else min(1.0, max(0.0, ((px - a[0]) * ex + (py - a[1]) * ey) / den))
+    return math.hypot(px - a[0] - u * ex, py - a[1] - u * ey)

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from terrabench.sim.episode import Timing
 from terrabench.sim.checks import Stalled, turned_over
+from terrabench.sim.episode import Timing
 from terrabench.systems.base import TaskBase
 from terrabench.systems.octopus.clm import Command
 from terrabench.systems.octopus.config import OctopusConfig
@@ -155,6 +155,8 @@ class OctopusTask(TaskBase):
         c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
         self._axis = np.array([c, s])
         self._perp = np.array([-s, c])
+        self._axis_f = ((c, s), (-s, c))
+        self._prog_t, self._prog = -1.0, (0.0, 0.0)
         self._margin = float("nan")
         # the evaluation-only columns (margin, tip contacts) are computed on the rows the store
         # keeps (every log period, and the last): the same stored series at a fifth of the cost
@@ -186,8 +188,14 @@ class OctopusTask(TaskBase):
         return self.obs.refresh()
 
     def progress(self) -> tuple[float, float]:
-        p = self.data.xpos[self.chassis, :2]
-        return float(p @ self._axis), float(p @ self._perp)
+        """(along, across) the approach axis (m); computed once per instant (check and row share it)."""
+        t = self.data.time
+        if t != self._prog_t:
+            p = self.data.xpos[self.chassis]
+            x, y = float(p[0]), float(p[1])
+            (ca, sa), (cp, sp) = self._axis_f
+            self._prog, self._prog_t = (x * ca + y * sa, x * cp + y * sp), t
+        return self._prog
 
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
         pr, lay = self.cfg.protocol, self.layout
@@ -223,10 +231,12 @@ class OctopusTask(TaskBase):
     def apply(self, cmd: Command) -> None:
         # crawler power limit: the speed of a side is cut so that its traction force (sampled on
         # the stored rows) times the speed stays within robot.track_power
-        v = np.asarray(cmd.track, float)
-        f = self._track_force
-        cap = np.where(f > 1e-6, self.cfg.robot.track_power / np.maximum(f, 1e-6), np.inf)
-        self._v = np.clip(v, -cap, cap)
+        v, f, pmax = self._v, self._track_force, self.cfg.robot.track_power
+        for i in (0, 1):
+            vi, fi = float(cmd.track[i]), float(f[i])
+            if fi > 1e-6 and abs(vi) * fi > pmax:
+                vi = math.copysign(pmax / fi, vi)
+            v[i] = vi
         self.apply_tracks(self._v)
         c = self._ctrl
         c[:4] = cmd.flip
@@ -253,8 +263,9 @@ class OctopusTask(TaskBase):
 
     def sample(self) -> tuple[float, float, float, float, float]:
         """Ground-truth figures of the current contacts (evaluation only, on the stored rows):
-        (static margin over the load-filtered support polygon, margin over every contact,
-        quasi-static flag, tracks' share of the normal load, crawler drive power W).
+        (static margin over the load-filtered support polygon at a quasi-static instant, else
+        NaN; margin over every contact at any other instant, else NaN; quasi-static flag;
+        tracks' share of the normal load; crawler drive power W).
 
         The support polygon holds the contacts of geoms that carried > SUPPORT_LOAD N within
         the last SUPPORT_MEMORY s (a grazing or bouncing contact is no support); quasi-static:
@@ -264,43 +275,44 @@ class OctopusTask(TaskBase):
         """
         m, d = self.model, self.data
         n, t = d.ncon, float(d.time)
-        g, side_of, f6 = self.ground, self._side_of, self._f6
-        pts, gs = [], []
-        total = track = 0.0
-        fx = np.zeros(2)
-        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
-        for j in range(n):
-            c = d.contact[j]
-            g1, g2 = c.geom1, c.geom2
-            if g[g1] == g[g2]:
-                continue
-            rg = g2 if g[g1] else g1
+        nan = float("nan")
+        gr, f6 = self.ground, self._f6
+        geom = d.contact.geom[:n]
+        sel = np.nonzero(gr[geom[:, 0]] ^ gr[geom[:, 1]])[0]
+        if not len(sel):
+            self._track_force = np.zeros(2)
+            return nan, nan, 0.0, nan, 0.0
+        g1, g2 = geom[sel, 0], geom[sel, 1]
+        rg = np.where(gr[g1], g2, g1)  # the robot's geom of each robot-ground contact
+        f = np.empty((len(sel), 3))
+        for a, j in enumerate(sel.tolist()):
             mujoco.mj_contactForce(m, d, j, f6)
-            fn = f6[0]
-            total += fn
-            if fn > SUPPORT_LOAD:
-                self._loaded_t[rg] = t
-            pts.append(c.pos[:2].copy())
-            gs.append(rg)
-            sd = side_of[rg]
-            if sd >= 0:
-                track += fn
-                fr = c.frame.reshape(3, 3)
-                fx[sd] += abs(f6[1] * (fr[1] @ ax) + f6[2] * (fr[2] @ ax))
-        self._track_force = fx
-        power = float(np.abs(fx * self._v).sum())
-        if not pts:
-            return float("nan"), float("nan"), 0.0, float("nan"), power
-        pts_a = np.array(pts)
-        cog = d.subtree_com[self.chassis, :2]
-        keep = (t - self._loaded_t[np.array(gs)]) <= SUPPORT_MEMORY
-        m_load = stability_margin(pts_a[keep], cog) if keep.any() else float("nan")
-        m_all = stability_margin(pts_a, cog)
+            f[a] = f6[:3]
+        fn = f[:, 0]
+        total = float(fn.sum())
+        self._loaded_t[rg[fn > SUPPORT_LOAD]] = t
+        # traction of each side: tangential contact force along the chassis x axis
+        fr = d.contact.frame[:n][sel].reshape(-1, 3, 3)
+        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
+        tx = np.abs(f[:, 1] * (fr[:, 1] @ ax) + f[:, 2] * (fr[:, 2] @ ax))
+        sd = self._side_of[rg]
+        on = sd >= 0
+        self._track_force = fx = np.bincount(sd[on], weights=tx[on], minlength=2)
+        power = abs(fx[0] * self._v[0]) + abs(fx[1] * self._v[1])
         v = d.qvel[:6]
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
                  abs(total - self._weight) < QS_LOAD * self._weight)
-        return m_load, m_all, float(quasi), track / total if total > 0 else float("nan"), power
+        pts = d.contact.pos[:n][sel, :2]
+        cog = d.subtree_com[self.chassis, :2]
+        # the static margin at quasi-static instants, the margin over every contact at the others
+        if quasi:
+            keep = (t - self._loaded_t[rg]) <= SUPPORT_MEMORY
+            m_load, m_all = (stability_margin(pts[keep], cog) if keep.any() else nan), nan
+        else:
+            m_load, m_all = nan, stability_margin(pts, cog)
+        share = float(fn[on].sum()) / total if total > 0 else nan
+        return m_load, m_all, float(quasi), share, float(power)
 
     def tip_contacts(self) -> int:
         d = self.data
@@ -324,7 +336,8 @@ class OctopusTask(TaskBase):
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
-                float(obs.q_flip[:2].mean()), float(obs.q_flip[2:].mean()), te[0], te[1], te[2], te[3],
+                0.5 * (obs.q_flip[0] + obs.q_flip[1]), 0.5 * (obs.q_flip[2] + obs.q_flip[3]),
+                te[0], te[1], te[2], te[3],
                 m_all, quasi, share, tpow, qa[1, 0], qa[1, 1], qa[1, 2], qa[3, 0], qa[3, 1], qa[3, 2])
 
     def power(self, obs: Observation) -> float:
@@ -352,12 +365,13 @@ class OctopusTask(TaskBase):
         dyn = (~quasi) & (m_all < 0)
         events = int(np.sum(dyn[1:] & ~dyn[:-1]) + (dyn[0] if len(dyn) else 0))
         tp = log.column("track_power")
+        md = m_all[~quasi]
         return {
             "max_pitch": float(pitch[ip]), "max_roll": float(roll[ir]),
             "min_margin": float(mq.min()) if len(mq) else float("nan"),
             "quasi_frac": float(quasi.mean()) if len(quasi) else float("nan"),
             "dyn_events": float(events),
-            "min_margin_dyn": float(np.nanmin(m_all[~quasi])) if (~quasi).any() and np.isfinite(m_all[~quasi]).any() else float("nan"),
+            "min_margin_dyn": float(np.nanmin(md)) if np.isfinite(md).any() else float("nan"),
             "track_share": float(np.nanmean(share)) if np.isfinite(share).any() else float("nan"),
             "progress": float(s[-1] - s[0]), "energy": log.energy,
             "track_energy": float(np.nansum(tp) * log.period),

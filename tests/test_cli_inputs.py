@@ -135,7 +135,8 @@ def test_report_on_a_store_without_the_systems_rows(tmp_path, sid):
 
 def test_a_method_that_does_not_apply_to_the_group_names_those_that_do(tmp_path):
     store = tmp_path / "r.duckdb"
-    line = one_error_line(invoke("run", "beams", "--methods", "interact", "--group", "estimation", "--store", str(store)),
+    res = invoke("run", "beams", "--methods", "interact", "--group", "estimation", "--store", str(store))
+    line = one_error_line(res,
                           "'interact'", "'estimation'", "estimate-4")
     assert "estimate-2" in line
     assert not store.exists()

@@ -160,7 +160,8 @@ def test_plan_refuses_before_any_trial(sid):
     bad = next(i for i in _leaves(sid) if i.spec is not None and _bad_values(i) and _numeric(i.default))
     value = _bad_values(bad)[0]
     with pytest.raises(ValueError, match=bad.key.replace(".", r"\.")):
-        system.plan(**{**dict(system.smoke), "overrides": {bad.key: list(value) if isinstance(value, tuple) else value}})
+        value = list(value) if isinstance(value, tuple) else value
+        system.plan(**{**dict(system.smoke), "overrides": {bad.key: value}})
 
 
 @dataclasses.dataclass(frozen=True)
@@ -272,7 +273,8 @@ def test_learner_options_give_what_sb3s_checker_asks_for(env_id):
     check_env(u, skip_render_check=True)
     act = env.action_space
     assert act.dtype == np.float32 and np.all(act.low == -1) and np.all(act.high == 1)
-    blocks = env.observation_space.spaces if isinstance(env.observation_space, spaces.Dict) else {"": env.observation_space}
+    obs_space = env.observation_space
+    blocks = obs_space.spaces if isinstance(obs_space, spaces.Dict) else {"": obs_space}
     for k, b in blocks.items():
         assert b.dtype == np.float32 and len(b.shape) == 1, (k, b)
     x, _ = env.reset(seed=0)
@@ -282,5 +284,6 @@ def test_learner_options_give_what_sb3s_checker_asks_for(env_id):
     assert np.array_equal(u.system_action(-np.ones(act.shape))[0], lo)
     assert np.array_equal(u.system_action(np.ones(act.shape))[0], hi)
     mid = (lo + hi) / 2
-    np.testing.assert_allclose(u.system_action(u.normalized_action(mid))[0], mid, rtol=1e-6, atol=1e-6 * float(np.max(hi - lo)))
+    back = u.system_action(u.normalized_action(mid))[0]
+    np.testing.assert_allclose(back, mid, rtol=1e-6, atol=1e-6 * float(np.max(hi - lo)))
     env.close()

@@ -87,7 +87,7 @@ def _main(version: bool = typer.Option(False, "--version", callback=_version, is
 @app.command("list")
 @friendly
 def list_cmd(
-    system: Optional[str] = typer.Argument(None, help="a system id: its methods, groups (with sizes) and instance ids"),
+    system: Optional[str] = typer.Argument(None, help="a system id: its methods, groups (sizes) and instance ids"),
     statuses: bool = typer.Option(False, "--statuses", help="what each trial status means"),
 ) -> None:
     """Systems, scenarios and methods, one line each; `list SYSTEM` for one system's groups and ids."""
@@ -133,7 +133,7 @@ def run(
     system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
     methods: Optional[str] = typer.Option(None, help="comma-separated method ids, or 'all'"),
     terrains: Optional[str] = typer.Option(None, help="comma-separated terrain/case ids, e.g. A-01,B-07"),
-    group: Optional[str] = typer.Option(None, help="instance group (mrs-cwc: A, B or all); see `terrabench list SYSTEM`"),
+    group: Optional[str] = typer.Option(None, help="instance group, e.g. mrs-cwc A or B; see `terrabench list SYSTEM`"),
     seeds: int = typer.Option(1, help="seeds per (method, terrain); seed 0 is the released protocol"),
     backend: str = typer.Option("local", help="local or ray"),
     workers: Optional[int] = typer.Option(None, help="parallel trials (default: all cores)"),
@@ -197,7 +197,14 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 def _run_with_progress(run_trials, specs, store, backend, workers, address):
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     plain = not console.is_terminal  # piped or in CI: one plain line per trial instead of a bar
     progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
@@ -248,7 +255,6 @@ def report(
     """Write a system's report (HTML + PNG + CSV) from stored trials."""
     from terrabench.benchmark.store import ResultsStore
     from terrabench.catalog import system as get_system
-
     from terrabench.paths import check_out_dir
 
     sysobj = get_system(system)
@@ -314,9 +320,8 @@ def terrain_generate(
     """New random terrains of the benchmark's family, filtered by a slope band (as the paper made its groups)."""
     import numpy as np
 
-    from terrabench.terrain import dataset
-
     from terrabench.paths import check_out_file
+    from terrabench.terrain import dataset
 
     if n < 1:
         raise ValueError(f"--n must be at least 1, got {n}")
@@ -338,10 +343,9 @@ def terrain_show(
     methods: Optional[str] = typer.Option(None, help="methods whose leader paths to draw (default: all stored)"),
 ) -> None:
     """Picture of a terrain with start, target and stored leader paths."""
+    from terrabench.paths import check_out_file
     from terrabench.report.terrain_plot import plot_terrain
     from terrabench.terrain import dataset
-
-    from terrabench.paths import check_out_file
 
     ter = dataset.get(terrain)
     out = check_out_file(out or Path(f"{ter.id}.png"))
@@ -454,7 +458,8 @@ def main() -> None:
         name = exc.param.opts[0] if exc.param is not None and exc.param.opts else (exc.param_hint or "a value")
         raw = _raw_value(exc.param, args)
         shown = f"{name} {raw!r}" if raw is not None else str(name)
-        err_console.print(f"[bold red]error:[/] {rich_escape(f'{shown}: {exc.message}')}", highlight=False, soft_wrap=True)
+        err_console.print(f"[bold red]error:[/] {rich_escape(f'{shown}: {exc.message}')}", highlight=False,
+                          soft_wrap=True)
         sys.exit(2)
     except cex.ClickException as exc:
         from typer import rich_utils

@@ -55,8 +55,11 @@ class Param:
 
     def bounds_text(self) -> str:
         """The numeric range alone, e.g. ``> 0``, ``in [0, 1]``, ``>= 1``; '' if unbounded."""
-        lo = (f"[{_num(self.ge)}", self.ge) if self.ge is not None else (f"({_num(self.gt)}", self.gt) if self.gt is not None else None
-        hi = (f"{_num(self.le)}]", self.le) if self.le is not None else (f"{_num(self.lt)})", self.lt) if self.lt is not None else None
+        lo = hi = None
+        if self.ge is not None or self.gt is not None:
+            lo = (f"[{_num(self.ge)}", self.ge) if self.ge is not None else (f"({_num(self.gt)}", self.gt)
+        if self.le is not None or self.lt is not None:
+            hi = (f"{_num(self.le)}]", self.le) if self.le is not None else (f"{_num(self.lt)})", self.lt)
         if lo and hi:
             return f"in {lo[0]}, {hi[0]}"
         if lo:

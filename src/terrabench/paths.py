@@ -38,7 +38,8 @@ def check_out_file(path: str | Path, flag: str = "--out", suffixes: tuple[str, .
     """
     out = Path(path)
     if suffixes is not None and out.suffix.lower() not in suffixes:
-        raise ValueError(f"{flag} {str(out)!r}: unknown suffix {out.suffix or '(none)'!r}; valid: {', '.join(suffixes)}")
+        raise ValueError(f"{flag} {str(out)!r}: unknown suffix {out.suffix or '(none)'!r}; "
+                         f"valid: {', '.join(suffixes)}")
     if out.is_dir():
         raise ValueError(f"{flag} {str(out)!r} is a folder; give a file name")
     if out.exists():

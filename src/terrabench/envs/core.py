@@ -45,7 +45,6 @@ from gymnasium import spaces
 
 from terrabench.benchmark.trial import TRUNCATIONS, TrialResult
 
-
 #: the keyword arguments that make an env Stable-Baselines3's checker accepts without warnings
 LEARNER_OPTIONS = {"dtype": "float32", "normalize_actions": True, "flat_observations": True}
 
@@ -106,7 +105,8 @@ class TerrabenchEnv(gymnasium.Env):
         from terrabench.catalog import system as get_system
 
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"unknown render_mode {render_mode!r}; valid: None, {', '.join(self.metadata['render_modes'])}")
+            raise ValueError(f"unknown render_mode {render_mode!r}; "
+                             f"valid: None, {', '.join(self.metadata['render_modes'])}")
         if sum(x is not None for x in (instance, instances, group)) > 1:
             raise ValueError("give one of instance, instances or group")
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:

@@ -50,7 +50,8 @@ class ProtocolConfig:
     start_xy: tuple[float, float] = param((0.0, 0.0), length=2, unit="m", doc="leader start; the chain trails along -x")
     target_xy: tuple[float, float] = param((9.0, -9.0), length=2, unit="m", doc="target position")
     drop_height: float = param(0.5, ge=0, unit="m", doc="drop above the highest sampled terrain point")
-    drop_probe_x: tuple[float, ...] = param((0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5), length=8, unit="m", doc="x positions sampled at the start y for the drop height")
+    drop_probe_x: tuple[float, ...] = param((0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5), length=8, unit="m",
+                                            doc="x positions sampled at the start y for the drop height")
     success_threshold: float = param(0.5, gt=0, unit="m", doc="XY leader-target distance that counts as arrival")
     timeout: float = param(1000.0, gt=0, unit="s", doc="simulated time limit")
     fall_z: float = param(-50.0, unit="m", doc="leader below this height has fallen off the world (any height)")
@@ -90,7 +91,8 @@ class MRSConfig:
     head_following: HeadFollowingConfig = field(default_factory=HeadFollowingConfig)
     follow: FollowConfig = field(default_factory=FollowConfig)
     waypoints: WaypointConfig = field(default_factory=WaypointConfig)
-    waypoint_source: str = param("released", choices=WAYPOINT_SOURCES, doc="waypoints: the released CSV or our A* planner")
+    waypoint_source: str = param("released", choices=WAYPOINT_SOURCES,
+                                 doc="waypoints: the released CSV or our A* planner")
     planner: PlannerConfig = field(default_factory=PlannerConfig)
 
     def __post_init__(self) -> None:

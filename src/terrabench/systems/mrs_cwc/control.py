@@ -61,7 +61,8 @@ class StiffnessLawConfig:
     (``protocol.control_period``), passed to :class:`StiffnessLaw`: one value in one place.
     """
 
-    mode: str = param("released", choices=STIFFNESS_MODES, doc="CWC law: released (latch + sign memory), eq12, constant (CS)")
+    mode: str = param("released", choices=STIFFNESS_MODES,
+                      doc="CWC law: released (latch + sign memory), eq12, constant (CS)")
     k_low: float = param(5.0, gt=0, unit="N m/rad", doc="soft yaw stiffness")
     k_high: float = param(100.0, gt=0, unit="N m/rad", doc="stiff yaw stiffness")
     k_init: float = param(0.1, gt=0, unit="N m/rad", doc="stiffness at t = 0")
@@ -255,8 +256,10 @@ class HeadFollowingConfig:
     """
 
     follower_wheel_speed: float = param(math.pi / 2, gt=0, unit="rad/s", doc="constant wheel speed of the followers")
-    dead_band: float = param(math.radians(25.0), ge=0, le=math.pi, unit="rad", doc="|e| below which the head joint target is 0")
-    head_angle: float = param(math.radians(35.0), ge=0, le=math.pi, unit="rad", doc="head joint target magnitude outside the dead band")
+    dead_band: float = param(math.radians(25.0), ge=0, le=math.pi, unit="rad",
+                             doc="|e| below which the head joint target is 0")
+    head_angle: float = param(math.radians(35.0), ge=0, le=math.pi, unit="rad",
+                              doc="head joint target magnitude outside the dead band")
     ema: float = param(0.03, gt=0, le=1, doc="smoothing weight of the head target")
     delay_steps: int = param(20, ge=1, doc="control periods by which each joint repeats its predecessor")
     compliance: float = param(0.01, ge=0, unit="rad/(N m)", doc="torque-to-angle compliance")

@@ -105,7 +105,8 @@ class ChainConfig:
     body_length: float = param(0.20, gt=0, unit="m", doc="body capsule length, end to end")
     body_mass: float = param(3.374, gt=0, unit="kg", doc="body mass of one unit")
     com_drop: float = param(0.10, ge=0, unit="m", doc="centre of mass below the capsule centre")
-    body_inertia_per_kg: tuple[float, float, float] = param((0.00125, 0.003177, 0.003177), length=3, gt=0, unit="m^2", doc="principal inertia / mass (longitudinal, lateral, vertical)")
+    body_inertia_per_kg: tuple[float, float, float] = param((0.00125, 0.003177, 0.003177), length=3, gt=0, unit="m^2",
+                                                            doc="principal inertia / mass (long., lat., vert.)")
     wheel_radius: float = param(0.05, gt=0, unit="m", doc="wheel radius")
     wheel_width: float = param(0.02, gt=0, unit="m", doc="wheel width")
     wheel_mass: float = param(1.57, gt=0, unit="kg", doc="mass of each wheel")
@@ -115,12 +116,17 @@ class ChainConfig:
     wheel_friction: float = param(2.0, ge=0, doc="wheel-ground friction coefficient")
     wheel_kv: float = param(100.0 / 1.5, gt=0, unit="N m s/rad", doc="velocity-servo gain of the wheel motors")
     wheel_torque_limit: float = param(100.0, gt=0, unit="N m", doc="wheel motor torque limit")
-    wheel_drive: str = param("servo", choices=WHEEL_DRIVES, doc="wheel motor model: velocity servo or Bullet-like velocity constraint")
-    drive_solref: tuple[float, float] = param((0.01, 1.0), length=2, gt=0, doc="MuJoCo solref (timeconst s, dampratio) of the drive constraint")
-    drive_solimp: tuple[float, float, float, float, float] = param((0.9999, 0.9999, 0.001, 0.5, 2.0), length=5, gt=0, doc="MuJoCo solimp of the drive constraint")
+    wheel_drive: str = param("servo", choices=WHEEL_DRIVES,
+                             doc="wheel motor model: velocity servo or Bullet-like velocity constraint")
+    drive_solref: tuple[float, float] = param((0.01, 1.0), length=2, gt=0,
+                                              doc="MuJoCo solref (timeconst s, dampratio) of the drive constraint")
+    drive_solimp: tuple[float, float, float, float, float] = param((0.9999, 0.9999, 0.001, 0.5, 2.0), length=5, gt=0,
+                                                                   doc="MuJoCo solimp of the drive constraint")
     drive_ref_armature: float = param(1e4, gt=0, unit="kg m^2", doc="inertia of each drive reference hinge")
-    wheel_solref: tuple[float, float] = param((0.02, 1.0), length=2, gt=0, doc="MuJoCo solref (timeconst s, dampratio) of the wheel-ground contact")
-    wheel_solimp: tuple[float, float, float, float, float] = param((0.9, 0.95, 0.001, 0.5, 2.0), length=5, gt=0, doc="MuJoCo solimp of the wheel-ground contact")
+    wheel_solref: tuple[float, float] = param((0.02, 1.0), length=2, gt=0,
+                                              doc="MuJoCo solref (timeconst s, dampratio) of the wheel-ground contact")
+    wheel_solimp: tuple[float, float, float, float, float] = param((0.9, 0.95, 0.001, 0.5, 2.0), length=5, gt=0,
+                                                                   doc="MuJoCo solimp of the wheel-ground contact")
     noslip_iterations: int = param(0, ge=0, doc="MuJoCo noslip post-solver iterations (0 = off)")
     bumper_radius: float = param(0.09, gt=0, unit="m", doc="leader bumper disc radius")
     bumper_thickness: float = param(0.02, gt=0, unit="m", doc="leader bumper disc thickness")
@@ -134,7 +140,8 @@ class ChainConfig:
     k_roll: float = param(30.0, gt=0, unit="N m/rad", doc="roll spring stiffness")
     k_yaw_init: float = param(0.1, gt=0, unit="N m/rad", doc="yaw stiffness at t = 0")
     link_damping: float = param(0.5, ge=0, unit="N m s/rad", doc="viscous damping of every link hinge")
-    yaw_kp: float = param(50.0, gt=0, lt=100, unit="N m/rad", doc="MJ yaw servo position gain (>= 100 oscillates: see docstring)")
+    yaw_kp: float = param(50.0, gt=0, lt=100, unit="N m/rad",
+                          doc="MJ yaw servo position gain (>= 100 oscillates: see docstring)")
     yaw_kv: float = param(5.0, ge=0, unit="N m s/rad", doc="MJ yaw servo damping")
 
     def __post_init__(self) -> None:

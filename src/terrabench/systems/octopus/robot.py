@@ -163,7 +163,8 @@ class RobotConfig:
     roller_damping: float = param(0.02, ge=0, unit="N m s/rad", doc="joint damping of the tip rollers")
     friction: float = param(1.0, ge=0, doc="sliding friction of the robot geoms (tracks, tips)")
     link_friction: float = param(0.3, ge=0,
-                                 doc="sliding friction of the arm links (boom, forearm); their contacts use it (priority 1)")
+                                 doc="sliding friction of the arm links (boom, forearm); their contacts use it "
+                                     "(priority 1)")
     tip_solref: tuple[float, float] = param((0.008, 1.0), length=2, gt=0, unit="s, -",
                                             doc="arm-tip contact time constant and damping ratio (priority 1)")
     joint_speed: tuple[float, float, float, float] = param((4.4, 4.4, 4.4, 4.4), length=4, gt=0, unit="rad/s",

@@ -5,9 +5,10 @@ slip angle 0-90 deg, load ~16-26 N (package copy: ``terrabench/data/soil/cmu_smo
 
 Two parameter sets ("methods" of the ``cmu-smooth`` group):
 
-- ``cmu-authors``: the authors' hand-tuned soil (``set_soil_params.m`` K10_mini_smooth: k 8e3
-  kN/m^(n+2) with no cohesive modulus, n0 1.46, n1 0.01, n2 0.55, c 1 kPa, phi 29 deg, K 0.021 m,
-  1.33 t/m^3) and their per-slip-angle stress and exit angles (``trench_off_smooth.mat``:
+- ``cmu-authors``: the authors' hand-tuned soil (``set_soil_params.m`` case K10_mini_smooth as
+  stored at commit 229ee2d: k 8e3 kN/m^(n+2) with no cohesive modulus, n0 1.4, n1 0.01, n2 0.55,
+  c 1.0 kPa, phi 29 deg, K 0.01 m, 1.33 t/m^3; the shared copy's README quotes the grousered
+  wheel's n0 1.46 and K 0.021 m) and their per-slip-angle stress and exit angles (``trench_off_smooth.mat``:
   theta_m = (a0 + a1 s) theta_1, theta_r = (b0 + b1 s) theta_1). terrabench fits nothing here;
   the authors tuned these on the same trials, so it is their calibration, not a prediction.
   terrabench's own choices that their set does not fix: the braked-wheel theta_m continues the
@@ -45,8 +46,8 @@ METHODS = ("cmu-authors", "cmu-fit-b0")
 #: the issue's targets: RMS as a fraction of the load (DP, lateral) and in metres (sinkage)
 TARGETS = {"DP_drive": 0.03, "DP_all": 0.08, "lateral": 0.04, "sinkage": 0.004}
 FIT_NAMES = ("n", "n1", "n2", "log10_k_phi", "K", "plough", "a1_skid", "a0", "a1", "c_exit")
-_AUTHORS = dict(form="bekker", n=1.46, n1=0.01, n2=0.55, k_c=0.0, k_phi=8e6, c=1000.0, phi_deg=29.0,
-                gamma=1.33e3 * 9.81, K=0.021)
+_AUTHORS = dict(form="bekker", n=1.4, n1=0.01, n2=0.55, k_c=0.0, k_phi=8e6, c=1000.0, phi_deg=29.0,
+                gamma=1.33e3 * 9.81, K=0.01)
 _DATA = "terrabench.data"
 
 
@@ -154,7 +155,7 @@ def fit(out: Path | None = None) -> dict:
 
     p = points()
     idx = np.flatnonzero(np.isin(p["beta_deg"], FIT_BETAS))
-    x0 = [1.46, 0.01, 0.55, np.log10(8e6), 0.021, 1.0, 0.45, 0.41, 0.45, 0.22]
+    x0 = [1.4, 0.01, 0.55, np.log10(8e6), 0.01, 1.0, 0.45, 0.41, 0.45, 0.22]
     lb = [0.3, -0.5, -0.5, 4.0, 0.002, 0.0, -1.0, 0.0, -0.5, 0.0]
     ub = [2.95, 1.5, 1.5, 11.0, 0.1, 10.0, 1.0, 0.9, 0.5, 1.0]
     r = least_squares(_residuals, x0, args=(idx,), bounds=(lb, ub))

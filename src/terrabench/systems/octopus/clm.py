@@ -53,6 +53,10 @@ class CLMConfig:
         tau_filter: per-tick weight of the elbow torque in its free-motion reference while lowering.
         settle_dz, settle_ticks: a landed tip that moves less than settle_dz (m) a tick for
             settle_ticks ticks has settled: it is a support.
+        release_d_e, release_d_f: boom and flipper steps of the release (rad/tick): quasi-static
+            (0.25 and 0.5 rad/s), where eqs. 28-29's dE and dF would drop the body in 0.7 s.
+        release_tilt: the nose rising this much while releasing means the COG is not over the
+            top yet (rad): the climb resumes and drives ``release_more`` m further (m).
         tilt_contact: the body pitching or rolling this much while an arm lowers = that arm's tip
             carries load: it has landed (rad).
         stall_dz: a lowering tip this far above its target has landed (stopped following) (m).
@@ -99,6 +103,10 @@ class CLMConfig:
     settle_ticks: int = 5
     stall_dz: float = 0.04
     tilt_contact: float = 0.01
+    release_d_e: float = 0.005
+    release_d_f: float = 0.01
+    release_tilt: float = 0.08
+    release_more: float = 0.15
     pit_depth: float = 0.45
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
     d_c: float = 0.1
@@ -300,6 +308,8 @@ class CLMController:
         self.last_case = FLAT
         self.started = False
         self.queue_reason: dict[str, str] = {}
+        self.s_release = cfg.climb_distance
+        self.release_pitch = 0.0
         self.events: list[Transition] = []
 
     def info(self) -> dict:
@@ -490,15 +500,24 @@ class CLMController:
                 if front and h < cfg.flip_wait * self.h_est:
                     continue  # the tip is still below the edge: it stays raised against the riser
                 c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
-            if self.s > cfg.climb_distance and h > self.h_est:
-                self._goto(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {cfg.climb_distance} m")
-        else:  # RELEASE (eqs. 28-29 second cases)
+            if self.s > self.s_release and h > self.h_est:
+                self.release_pitch = obs.pitch
+                self._goto(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
+        else:  # RELEASE (eqs. 28-29 second cases), at quasi-static rates
+            if obs.pitch - self.release_pitch > cfg.release_tilt:
+                # the nose rises while the booms come up: the rear is dropping, the COG is not yet
+                # over the top (odometry counted slip): lift again and drive on
+                self.s_release = self.s + cfg.release_more
+                self.lift_tgt = self.tip_r.copy()
+                self._goto(obs.t, CLIMB, f"pitch rose {obs.pitch - self.release_pitch:.2f} rad > "
+                           f"{cfg.release_tilt} while releasing: drive {cfg.release_more} m more")
+                return
             for i in range(4):
                 if c.arm[i, 1] > cfg.release_boom:
-                    c.arm[i, 1] = max(c.arm[i, 1] - cfg.d_e, cfg.release_boom)
+                    c.arm[i, 1] = max(c.arm[i, 1] - cfg.release_d_e, cfg.release_boom)
             for f in range(4):
                 if c.flip[f] < 0.0:
-                    c.flip[f] = min(c.flip[f] + cfg.d_f, 0.0)
+                    c.flip[f] = min(c.flip[f] + cfg.release_d_f, 0.0)
             if all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
                 # back to walking on the top: arms re-placed, front flippers to their cruise angle
                 self._goto(obs.t, WALK, "booms and flippers released")
@@ -546,8 +565,9 @@ class CLMController:
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
             at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
             if all_down and self.last_case == UP and at_limit:
-                self.h_est = step_height(z)
-                self.s = 0.0
+                # per terrace: the nearer (lower) front tip's height over the rear tips
+                self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
+                self.s, self.s_release = 0.0, cfg.climb_distance
                 self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
                 self._goto(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, front flippers at the limit")
             c.mode, c.moving_arm = self.state, i

@@ -267,7 +267,7 @@ class RoverController:
             pts = np.asarray(st.waypoints, float)
             i = min(getattr(self, "wp", 0), len(pts) - 1)
             p = np.array([x, y])
-            while i < len(pts) - 1 and np.linalg.norm(pts[i] - p) < 0.25:
+            while i < len(pts) - 1 and np.linalg.norm(pts[i] - p) < 0.4:
                 i += 1
             self.wp = i
             tx, ty = pts[i] - p
@@ -279,7 +279,7 @@ class RoverController:
             bx, by = c * tx + s * ty, -s * tx + c * ty
             L2 = bx * bx + by * by
             kappa_c = 2 * by / max(L2, 1e-6)
-            kappa_c = max(-1.2, min(1.2, kappa_c))
+            kappa_c = max(-0.8, min(0.8, kappa_c))
             return np.array([st.v, 0.0, st.v * kappa_c, 0.0, 0.0]), False
         goal = st.until_x if st.until_x is not None else self._start_x() + st.dist
         if x >= goal:
@@ -311,7 +311,8 @@ class RoverController:
             if abs(dy) >= abs(st.dy):
                 self.phase = 2
                 return np.zeros(5), False, True
-            return np.array([0.0, sgn * st.v, 0.0, 0.0, 0.0]), False, False
+            dyaw = self._local(obs)[2]
+            return np.array([0.0, sgn * st.v, max(-0.01, min(0.01, -0.5 * dyaw)), 0.0, 0.0]), False, False
         self.mu_goal = np.zeros(6)
         if np.max(np.abs(obs.mu)) < self.sup.steer_tol:
             self.mu_goal = None

@@ -6,7 +6,8 @@ Both grounds (plane, heightfield) in one run. For each ground the rigid rover an
 (every = 1, 2, 5, 10: forces held over k substeps) are timed alternately, ``repeats`` rounds of
 ``steps`` physics steps each, in CPU time (``time.process_time``); the fastest round of each
 counts (the least disturbed by other load on a shared machine). Prints microseconds per step,
-the ratio to rigid, the cost of the hook call alone, and the forward speed / mean slip / sinkage reached. The soil tables and the
+the ratio to rigid, the cost of the hook call alone, and the forward speed / mean slip / sinkage
+reached. The soil tables and the
 compiled kernel are built before timing (the kernel is cached on disk by numba).
 """
 

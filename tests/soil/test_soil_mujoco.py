@@ -171,7 +171,7 @@ def test_a_ground_callable_gives_the_kernel_the_same_forces_as_the_built_in_heig
         m, d, sw = _rover(table, hfield=hf, lift=0.05)
         if wrap:
             g = hfield_ground(m, "ground")
-            sw2 = SoilWheels(m, d, NAMES, WHEEL, table, lambda px, py: g(px, py))
+            sw2 = SoilWheels(m, d, NAMES, WHEEL, table, lambda px, py, g=g: g(px, py))
             assert sw2._gmode == 2
             sw = sw2
         d.ctrl[:] = 2.0

@@ -70,5 +70,6 @@ def build_rover(wheel: WheelParams, cfg: RoverConfig = RoverConfig(), hfield=Non
             act = spec.add_actuator(name=f"motor_{i}", target=wheel_name(i), trntype=mujoco.mjtTrn.mjTRN_JOINT)
             act.set_to_velocity(kv=cfg.kv)
             i += 1
-    spec.add_sensor(name="accel", type=mujoco.mjtSensor.mjSENS_ACCELEROMETER, objtype=mujoco.mjtObj.mjOBJ_SITE, objname="imu")
+    spec.add_sensor(name="accel", type=mujoco.mjtSensor.mjSENS_ACCELEROMETER, objtype=mujoco.mjtObj.mjOBJ_SITE,
+                    objname="imu")
     return spec

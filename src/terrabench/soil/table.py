@@ -65,7 +65,8 @@ def lookup_one(z, s, C, tab, dwdz, tp):
                 out2 += w * row[2]
                 out3 += w * row[3]
     if z > tp[0]:
-        slope = (1 - ts) * ((1 - tq) * dwdz[j, k] + tq * dwdz[j, k + 1]) + ts * ((1 - tq) * dwdz[j + 1, k] + tq * dwdz[j + 1, k + 1])
+        slope = ((1 - ts) * ((1 - tq) * dwdz[j, k] + tq * dwdz[j, k + 1])
+                 + ts * ((1 - tq) * dwdz[j + 1, k] + tq * dwdz[j + 1, k + 1]))
         out0 += slope * (z - tp[0])
     return out0, out1, out2, out3
 
@@ -123,7 +124,10 @@ class SoilTable:
         """
         z = np.ascontiguousarray(np.atleast_1d(np.asarray(z, float)))
         s = np.ascontiguousarray(np.broadcast_to(np.asarray(s, float), z.shape))
-        C = np.zeros_like(z) if q is None else np.ascontiguousarray(np.abs(np.broadcast_to(np.asarray(q, float), z.shape)))
+        if q is None:
+            C = np.zeros_like(z)
+        else:
+            C = np.ascontiguousarray(np.abs(np.broadcast_to(np.asarray(q, float), z.shape)))
         out = np.empty((z.size, 4))
         _lookup_many(z, s, C, self.data, self.dWdz_end, self.params, out)
         return out[:, 0], out[:, 1], out[:, 2], out[:, 3]

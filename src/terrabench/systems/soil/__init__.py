@@ -7,4 +7,5 @@ def register(registry) -> None:
     from terrabench.systems.soil.scenarios import SCENARIO, SYSTEM
 
     SYSTEM.register(registry, "terrabench.systems.soil.scenarios:SYSTEM",
-                    {SCENARIO: "single rigid wheel: drawbar pull, torque and sinkage vs slip at several loads per soil"})
+                    {SCENARIO: "single rigid wheel: drawbar pull, torque and sinkage vs slip per soil and load; "
+                               "the CMU smooth-wheel trials beside the model"})

@@ -91,14 +91,16 @@ def soil_for(method: str, beta: int, x=None) -> SoilParams:
     """The soil of a parameter set at a slip angle (deg); ``x`` overrides the stored fit."""
     if method == "cmu-authors":
         a0, a1, b0, b1 = tuned_angles()[int(beta)]
-        return SoilParams(name="cmu_authors", a0=a0, a1=a1, a1_skid=a1, c_exit=-b0, c_exit1=-b1, bulldoze=1.0, plough=1.0,
+        return SoilParams(name="cmu_authors", a0=a0, a1=a1, a1_skid=a1, c_exit=-b0, c_exit1=-b1, bulldoze=1.0,
+                          plough=1.0,
                           source="robomechanics/3d-terramechanics set_soil_params.m K10_mini_smooth + "
                                  "trench_off_smooth.mat (authors' hand tuning)", **_AUTHORS)
     if method == "cmu-fit-b0":
         p = dict(zip(FIT_NAMES, fitted()["x"] if x is None else x))
         base = {k: v for k, v in _AUTHORS.items() if k not in ("n", "n1", "n2", "k_phi", "K")}
         return SoilParams(name="cmu_fit_b0", n=p["n"], n1=p["n1"], n2=p["n2"], k_phi=10 ** p["log10_k_phi"], K=p["K"],
-                          plough=p["plough"], bulldoze=1.0, a1_skid=p["a1_skid"], a0=p["a0"], a1=p["a1"], c_exit=p["c_exit"],
+                          plough=p["plough"], bulldoze=1.0, a1_skid=p["a1_skid"], a0=p["a0"], a1=p["a1"],
+                          c_exit=p["c_exit"],
                           source="terrabench fit to the CMU trials at slip angle 0 (fit_beta0.json)", **base)
     raise ValueError(f"method={method!r} is unknown; valid: {', '.join(METHODS)}")
 

@@ -17,7 +17,8 @@ from terrabench.systems.soil.scenarios import CMU_METHODS, RIG_METHODS, parse_in
 
 SOURCE = {"rig": "mujoco", "analytic": "analytic"}
 ORDER = list(RIG_METHODS + CMU_METHODS)
-QUANT = (("DP_drive", "drawbar pull, driving (s >= 0)", "% of load"), ("DP_all", "drawbar pull, all slips", "% of load"),
+QUANT = (("DP_drive", "drawbar pull, driving (s >= 0)", "% of load"),
+         ("DP_all", "drawbar pull, all slips", "% of load"),
          ("lateral", "lateral force", "% of load"), ("sinkage", "sinkage", "mm"))
 WHY = {
     "DP_all": "skid and the locked wheel: the braked-wheel resistance (front ploughing of the rut) sets it; at slip "
@@ -94,7 +95,7 @@ def summary_table(rows: list[dict[str, Any]]):
     """CMU RMS per parameter set, and DP/W at slip 0.2 / 0.4 / 0.6 per soil, load and method."""
     from rich.table import Table
 
-    t = Table(title="soil: CMU RMS (fitted/predicted/all) and single-wheel DP/W at slip 0.2 / 0.4 / 0.6, sinkage at 0.2")
+    t = Table(title="soil: CMU RMS (fitted/predicted/all); single-wheel DP/W at slip 0.2 / 0.4 / 0.6, sinkage at 0.2")
     for c in ("what", "set / soil", "points / load", "DP drive", "DP all / s=0.4", "lateral / s=0.6", "sinkage mm"):
         t.add_column(c)
     for method in CMU_METHODS:
@@ -107,7 +108,8 @@ def summary_table(rows: list[dict[str, Any]]):
     for p in sweep_rows(rows):
         pts[(p["soil"], p["load_N"], p["source"], round(p["slip"], 2))] = p
     for soil, load, src in sorted({k[:3] for k in pts}):
-        cells = [f"{pts[(soil, load, src, s)]['DP_coeff']:.3f}" if (soil, load, src, s) in pts else "-" for s in (0.2, 0.4, 0.6)]
+        cells = [f"{pts[(soil, load, src, s)]['DP_coeff']:.3f}" if (soil, load, src, s) in pts else "-"
+                 for s in (0.2, 0.4, 0.6)]
         z = pts.get((soil, load, src, 0.2))
         t.add_row("single wheel", soil, f"{load:g} N {src}", *cells, f"{1e3 * z['sinkage_m']:.1f}" if z else "-")
     return t
@@ -163,7 +165,8 @@ def _sweep_figure(srows: list[dict[str, Any]], name: str):
         sel = sorted((r for r in srows if r["label"] == label and r["load_N"] == load), key=lambda r: r["slip"])
         style = dict(ls="none", marker="o", ms=4) if sel[0]["source"] == "mujoco" else dict(ls="-")
         for ax, key, scale in ((axs[0, 0], "DP_N", 1.0), (axs[0, 1], "torque_Nm", 1.0), (axs[1, 0], "sinkage_m", 1e3)):
-            ax.plot([r["slip"] for r in sel], [r[key] * scale for r in sel], color=c, label=f"{label} {load:g} N", **style)
+            ax.plot([r["slip"] for r in sel], [r[key] * scale for r in sel], color=c, label=f"{label} {load:g} N",
+                    **style)
     axs[0, 0].set(xlabel="slip", ylabel="drawbar pull (N)", title=f"{name}: drawbar pull")
     axs[0, 0].axhline(0, color="k", lw=0.5)
     axs[0, 1].set(xlabel="slip", ylabel="driving torque (N m)", title="torque")

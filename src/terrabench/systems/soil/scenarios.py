@@ -118,11 +118,13 @@ class SoilSystem(System):
     summary = "Single rigid wheel on loose soil (Bekker / Wong-Reece / Janosi): slip and load sweeps"
     config_cls = SoilTestbedConfig
     groups = {"single-wheel": f"{len(SOILS)} soils x loads {LOADS} N x slips {SLIPS[0]}..{SLIPS[-1]}",
-              "cmu-smooth": "the 189 measured CMU smooth-wheel trials (slip -1..0.9, slip angle 0-90 deg) beside the model"}
+              "cmu-smooth": "the 189 measured CMU smooth-wheel trials (slip -1..0.9, slip angle 0-90 deg) "
+                            "beside the model"}
     default_group = "single-wheel"
     headline_metrics = ("DP_N", "torque_Nm", "sinkage_m", "DP_coeff", "efficiency")
     perf_instances = ("mars_soft/W100/s0.20",)
-    smoke = {"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"], "overrides": {"rig.settle_s": 0.3, "rig.average_s": 0.1}}
+    smoke = {"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"],
+             "overrides": {"rig.settle_s": 0.3, "rig.average_s": 0.1}}
 
     def methods(self) -> dict[str, MethodInfo]:
         return {"rig": MethodInfo("rig", "MuJoCo single-wheel rig, soil forces in the per-substep hook", ("mujoco",)),

@@ -65,7 +65,8 @@ def add_rig(spec: mujoco.MjSpec, wheel: WheelParams, load: float, cfg: RigConfig
     wb.add_joint(name="wheel_spin", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
     wb.add_geom(name="wheel", type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[wheel.radius, wheel.width / 2, 0],
                 quat=[np.sqrt(0.5), np.sqrt(0.5), 0, 0], mass=wheel.mass)
-    for name, joint, kv in (("carriage_servo", "carriage_x", cfg.kv_carriage), ("wheel_servo", "wheel_spin", cfg.kv_wheel)):
+    for name, joint, kv in (("carriage_servo", "carriage_x", cfg.kv_carriage),
+                            ("wheel_servo", "wheel_spin", cfg.kv_wheel)):
         act = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.set_to_velocity(kv=kv)
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from terrabench.config import param
 from terrabench.systems.base import Transition, events_info
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
@@ -79,52 +80,62 @@ class CLMConfig:
         max_lead: largest lead of a joint command over the measured angle (rad).
     """
 
-    track_speed: float = 0.1
-    climb_track_speed: float = 0.06
-    sigma: tuple[float, float, float] = (0.05, 0.45, 0.45)
-    t0: float = 40.0
-    d_a: float = 0.02
-    a0: float = 1.4835
-    d_b_flip: float = 0.02
-    flipper_start: float = 0.5
-    arm_ab: float = -0.6
-    d_swing: float = 0.04
-    d_lift: float = 0.04
-    k_boom: float = 0.15
-    contact_torque: float = 20.0
-    hit_torque: float = 45.0
-    press: float = 0.005
-    arm_moving: bool = True
-    reach_min: tuple[float, float] = (0.2, -0.9)
-    reach_max: float = 0.8
-    lower_dz: float = 0.01
-    tau_filter: float = 0.15
-    settle_dz: float = 0.0005
-    settle_ticks: int = 5
-    stall_dz: float = 0.04
-    tilt_contact: float = 0.01
-    release_d_e: float = 0.005
-    release_d_f: float = 0.01
-    release_tilt: float = 0.08
-    release_more: float = 0.15
-    pit_depth: float = 0.45
-    targets: tuple[tuple[float, float, float], tuple[float, float, float]] = ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05))
-    d_c: float = 0.1
-    d_d: float = 0.08
-    gait_pause: float = 0.4
-    d_e: float = 0.02
-    d_f: float = 0.0873
-    climb_distance: float = 0.3
-    h2: float = 0.05
-    release_boom: float = 0.0
-    max_lead: float = 0.35
-    pitch_cap: float = 0.25
-    lift_margin: float = 0.03
-    flip_min: float = -0.8
-    stall_lag: float = 0.25
-    lift_dz: float = 0.002
-    flip_lead: float = 0.05
-    flip_wait: float = 0.5
+    track_speed: float = param(0.1, gt=0, unit="m/s", doc="crawler surface speed in compound mode")
+    climb_track_speed: float = param(0.06, gt=0, unit="m/s", doc="crawler speed while lifting on a step")
+    sigma: tuple[float, float, float] = param((0.05, 0.45, 0.45), length=3, ge=0, unit="m",
+                                              doc="(sigma1, sigma2, sigma3) terrain-case thresholds")
+    t0: float = param(40.0, gt=0, unit="N m", doc="flipper torque threshold T0")
+    d_a: float = param(0.02, gt=0, unit="rad/tick", doc="flipper step dA of the torque rule")
+    a0: float = param(1.4835, ge=-math.pi, le=math.pi, unit="rad", doc="front flipper limit A0")
+    d_b_flip: float = param(0.02, gt=0, unit="rad/tick", doc="flipper step dB at the limit")
+    flipper_start: float = param(0.5, ge=-math.pi, le=math.pi, unit="rad", doc="front flipper angle on flat ground")
+    arm_ab: float = param(-0.6, ge=-math.pi, le=math.pi, unit="rad",
+                          doc="boom lift angle A_B of a transfer (< 0 is up)")
+    d_swing: float = param(0.04, gt=0, unit="rad/tick", doc="swing step of a transfer")
+    d_lift: float = param(0.04, gt=0, unit="rad/tick", doc="boom/elbow step of a transfer")
+    k_boom: float = param(0.15, ge=0, unit="1/tick", doc="boom gain K of eqs. 19-21")
+    contact_torque: float = param(20.0, gt=0, unit="N m", doc="elbow-torque change that signals a tip contact")
+    hit_torque: float = param(45.0, gt=0, unit="N m",
+                              doc="elbow-torque change of a supporting arm that signals a collision")
+    press: float = param(0.005, ge=0, unit="m", doc="a supporting tip's target this far below its measured height")
+    arm_moving: bool = param(True, doc="supporting arms follow the body (eqs. 22-27); False keeps their targets fixed")
+    reach_min: tuple[float, float] = param((0.2, -0.9), length=2, unit="m",
+                                           doc="(front, rear) arms: a foothold behind this x in {R} is out of range")
+    reach_max: float = param(0.8, gt=0, unit="m", doc="a foothold farther than this from its arm mount is out of range")
+    lower_dz: float = param(0.01, gt=0, unit="m/tick", doc="descent of a lowering tip's target per tick")
+    tau_filter: float = param(0.15, ge=0, le=1, doc="per-tick weight of the elbow torque in its free-motion reference")
+    settle_dz: float = param(0.0005, gt=0, unit="m/tick", doc="a landed tip moving less than this a tick is settling")
+    settle_ticks: int = param(5, ge=1, doc="ticks of settling before a landed tip is a support")
+    stall_dz: float = param(0.04, gt=0, unit="m", doc="a lowering tip this far above its target has landed")
+    tilt_contact: float = param(0.01, gt=0, unit="rad", doc="body tilt while an arm lowers that means its tip landed")
+    release_d_e: float = param(0.005, gt=0, unit="rad/tick", doc="boom step of the release")
+    release_d_f: float = param(0.01, gt=0, unit="rad/tick", doc="flipper step of the release")
+    release_tilt: float = param(0.08, gt=0, unit="rad", doc="nose rise while releasing that resumes the climb")
+    release_more: float = param(0.15, ge=0, unit="m", doc="extra drive after a resumed climb")
+    pit_depth: float = param(0.45, gt=0, unit="m", doc="no ground this far below the transfer target: a pit")
+    targets: tuple[tuple[float, float, float], tuple[float, float, float]] = param(
+        ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05)), length=2, unit="m",
+        doc="transfer target tips in {R} (x, |y|, z) for (front, rear) arms")
+    d_c: float = param(0.1, gt=0, unit="m", doc="arm stop threshold dC (x)")
+    d_d: float = param(0.08, gt=0, unit="m", doc="arm stop threshold dD (z)")
+    gait_pause: float = param(0.4, ge=0, unit="s", doc="support time between two transfers")
+    d_e: float = param(0.02, gt=0, unit="rad/tick", doc="boom step dE of eq. 28")
+    d_f: float = param(0.0873, gt=0, unit="rad/tick", doc="flipper step dF of eq. 29")
+    climb_distance: float = param(0.3, gt=0, unit="m", doc="L of eqs. 28-29: travel past the edge before release")
+    h2: float = param(0.05, unit="m",
+                      doc="H2 of the COG-height rule (origin above the track bottom less the tip radius)")
+    release_boom: float = param(0.0, ge=-math.pi, le=math.pi, unit="rad",
+                                doc="boom angle the arms return to on release")
+    max_lead: float = param(0.35, gt=0, unit="rad", doc="largest lead of a joint command over the measured angle")
+    pitch_cap: float = param(0.25, gt=0, le=math.pi / 2, unit="rad", doc="while lifting, booms hold beyond this pitch")
+    lift_margin: float = param(0.03, ge=0, unit="m", doc="while lifting, booms hold once H exceeds H_EST by this")
+    flip_min: float = param(-0.8, ge=-math.pi, le=math.pi, unit="rad", doc="lowest flipper command while climbing")
+    stall_lag: float = param(0.25, gt=0, unit="rad",
+                             doc="boom command ahead of the boom by this while lowering = contact")
+    lift_dz: float = param(0.002, gt=0, unit="m/tick", doc="lift: every tip target moves down by this a tick")
+    flip_lead: float = param(0.05, ge=0, unit="rad",
+                             doc="flipper command kept within this of the measured angle (eq. 29)")
+    flip_wait: float = param(0.5, ge=0, doc="front flippers wait while H < flip_wait x H_EST")
 
 
 # ---------------------------------------------------------------------------- pure rules

@@ -131,3 +131,12 @@ def test_report_separates_config_variants_and_shows_cmu_rms(tmp_path):
     assert (out / "cmu_smooth.png").stat().st_size > 10_000
     rms = (out / "cmu_rms.csv").read_text()
     assert "cmu-fit-b0" in rms and "cmu-authors" in rms
+
+
+@pytest.mark.slow
+def test_the_stored_fit_is_what_the_fit_gives():
+    # fit_beta0.json is the output of cmu.fit() (python -m terrabench.systems.soil.cmu --fit);
+    # rerunning it from the authors' values lands on the same parameters
+    r = cmu.fit()
+    np.testing.assert_allclose(r["x"], cmu.fitted()["x"], rtol=1e-3, atol=1e-4)
+    assert r["fitted_trials"] == cmu.fitted()["fitted_trials"]

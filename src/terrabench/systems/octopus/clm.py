@@ -54,6 +54,8 @@ class CLMConfig:
         tau_filter: per-tick weight of the elbow torque in its free-motion reference while lowering.
         settle_dz, settle_ticks: a landed tip that moves less than settle_dz (m) a tick for
             settle_ticks ticks has settled: it is a support.
+        phase_timeout: a transfer's lift or swing phase that has not finished in this long moves on
+            to the next phase from where the arm is (s).
         release_d_e, release_d_f: boom and flipper steps of the release (rad/tick): quasi-static
             (0.25 and 0.5 rad/s), where eqs. 28-29's dE and dF would drop the body in 0.7 s.
         release_tilt: the nose rising this much while releasing means the COG is not over the
@@ -108,6 +110,7 @@ class CLMConfig:
     settle_ticks: int = param(5, ge=1, doc="ticks of settling before a landed tip is a support")
     stall_dz: float = param(0.04, gt=0, unit="m", doc="a lowering tip this far above its target has landed")
     tilt_contact: float = param(0.01, gt=0, unit="rad", doc="body tilt while an arm lowers that means its tip landed")
+    phase_timeout: float = param(3.0, gt=0, unit="s", doc="a transfer's lift or swing phase unfinished this long moves on")
     release_d_e: float = param(0.005, gt=0, unit="rad/tick", doc="boom step of the release")
     release_d_f: float = param(0.01, gt=0, unit="rad/tick", doc="flipper step of the release")
     release_tilt: float = param(0.08, gt=0, unit="rad", doc="nose rise while releasing that resumes the climb")
@@ -305,6 +308,7 @@ class CLMController:
         self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
         self.tip_z = self.prev_tip_z = np.zeros(4)
         self.low_z = np.zeros(4)
+        self.phase_t = np.zeros(4)  # time in the current lift/swing phase (s)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = np.zeros(4, bool)  # landed, pressing, not yet settled
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
@@ -399,6 +403,14 @@ class CLMController:
             c = ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
         else:
             new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
+            # arm stop case 1 in time: a lift or swing the arm cannot finish (a link held by an
+            # obstacle) goes on to the next phase from where the arm is
+            self.phase_t[i] = self.phase_t[i] + self.dt if new_ph == ph else 0.0
+            if self.phase_t[i] > cfg.phase_timeout:
+                self._arm_event(obs.t, k, TRANSFER, TRANSFER, f"phase {ph} blocked for {cfg.phase_timeout:g} s: next phase")
+                new_ph, self.phase_t[i] = ph + 1, 0.0
+                if ph == 2:
+                    c[0] = q[0]
         if ph == 2 and new_ph == 3:
             self.tau_ref[i] = obs.tau_elbow[i]
             self.t3[i] = 0.0

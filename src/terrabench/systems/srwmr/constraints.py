@@ -76,11 +76,13 @@ class Scales:
     w_fmr: float = 700.0
 
 
-#: kappa per mode, in the order of NAMES (MC2 ... MC11); inf = not enforced in this mode
+#: kappa per mode, in the order of NAMES (MC2 ... MC11); inf = not enforced in this mode. MC7 in the
+#: wheel-only modes ramps the speed over ~5 s (0.01 of max(|v|, 5 mm/s) per 10 ms step): the paper's
+#: speed transitions took "approximately 4 s" (Task 8).
 THRESHOLDS: dict[str, tuple[float, ...]] = {
     #        MC2  MC3   MC4  MC5  MC6  MC7  MC8  MC9  MC10  MC11
-    "WRM":  (INF, 0.60, 1.0, 1.0, INF, 0.5, 0.6, 1.0, 1.0, 1.0),
-    "WCM":  (INF, 0.60, 1.0, 1.0, INF, 0.5, 0.6, 1.0, 1.0, 1.0),
+    "WRM":  (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
+    "WCM":  (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
     "RCLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
     "RCM":  (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
     "SWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),

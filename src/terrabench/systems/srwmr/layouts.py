@@ -96,14 +96,14 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
         goal = wall + 0.2
         plan = ((Step("RCM", v=0.025, cycles=999, amp=0.45, until_x=goal),) if method == "rcm"
                 else (Step("WRM", v=0.025, dist=5.0, until_x=goal),))
-        return Layout(prof, (), "very_loose", plan, goal, 900.0, z0=-depth,
+        return Layout(prof, (), "very_loose", plan, goal, 600.0, z0=-depth,
                       note="start in a 120 mm pit with 20 deg walls of very loose soil [R for 'all wheels sunk']")
     if instance in ("t5-slope10", "t11-slope15") or instance.startswith("slope-"):
         if instance.startswith("slope-"):
             _, deg_s, soil = instance.split("-", 2)
             deg, timeout = float(deg_s), 500.0
         else:
-            deg, soil, timeout = (10.0, "loose", 900.0) if instance == "t5-slope10" else (15.0, "loose", 900.0)
+            deg, soil, timeout = (10.0, "loose", 600.0) if instance == "t5-slope10" else (15.0, "loose", 600.0)
         foot = a + r + approach
         goal = foot + 0.6 - a  # the front wheels 0.6 m up the slope
         if instance == "t11-slope15":

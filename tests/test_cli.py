@@ -39,7 +39,7 @@ def test_list_shows_systems_scenarios_and_every_method():
         (["run", "mrs-cwc", "--set", "physics.timestep=abc"], "expects a number"),
         (["run", "mrs-cwc", "--address", "127.0.0.1:9"], "needs --backend ray"),
         (["run", "beams", "--group", "open-loop", "--set", "k1=abc"], "k1"),
-        (["run", "nosuch"], "valid: mrs-cwc"),
+        (["run", "nosuch"], "unknown system 'nosuch'; valid: beams, mrs-cwc, octopus, soil"),
         (["run", "mrs-cwc", "--set", "physics.nope=1"], "unknown config key 'physics.nope'"),
         (["terrain", "show", "Z-1"], "unknown terrain id"),
         (["report", "mrs-cwc", "--store", "/nonexistent/x.duckdb"], "results file not found"),

@@ -86,7 +86,8 @@ class Param:
             return f"{count}entries" + unit
         if isinstance(default, bool):
             return "true or false"
-        kind = "an integer" if _is_int(default) else "a number" if _is_number(default) else "a value"
+        kind = "an integer" if _is_int(default) else "a number" if _is_number(default) or (
+            default is None and self.has_range) else "a value"
         return kind + (f" {rng}" if rng else "") + unit
 
 
@@ -141,7 +142,11 @@ def spec_of(f: dataclasses.Field) -> Param | None:
 
 def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
     """ConfigError naming ``key`` unless ``value`` satisfies ``spec`` (``default`` gives the kind)."""
-    valid = spec.describe(default if default is not None else value)
+    if value is None and default is None:  # an optional field (``float | None = None``) left unset
+        return
+    valid = spec.describe(default)
+    if default is None:
+        valid += ", or null"
     if spec.choices is not None:
         if not any(value == c and isinstance(value, bool) == isinstance(c, bool) for c in spec.choices):
             raise ConfigError(key, value, ", ".join(str(c) for c in spec.choices), problem="is unknown")

@@ -89,7 +89,7 @@ def test_reece_and_bekker_forms_convert_exactly():
         fr = wheel_forces(0.04, 0.3, reece, WHEEL, q=0.1)
         for k in ("W", "DP", "T", "Fy"):
             assert fr[k] == pytest.approx(fb[k], rel=1e-9)
-    with pytest.raises(ValueError, match="form='reese'"):
+    with pytest.raises(ValueError, match="'form' = 'reese'"):
         SoilParams(form="reese")
 
 

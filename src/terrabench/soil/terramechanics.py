@@ -34,16 +34,13 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from terrabench.config import ConfigError, check_fields, param
+
 N_NODES = 24  # Gauss-Legendre nodes per sub-interval ([theta_r, theta_m] and [theta_m, theta_1])
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(N_NODES)
 SLIP_MIN = -1.0  # locked wheel: finite with the braked-wheel displacement, no clip needed
 SLIP_MAX = 1.0
 FORMS = ("bekker", "reece")
-
-
-def _check(name: str, value: float, ok: bool, valid: str) -> None:
-    if not (ok and np.isfinite(value)):
-        raise ValueError(f"{name}={value!r} is invalid; valid range: {valid}")
 
 
 @dataclass(frozen=True)
@@ -80,49 +77,34 @@ class SoilParams:
         source: citation / provenance string.
     """
 
-    name: str = "soil"
-    n: float = 1.0  # range: (0, 3)
-    k_c: float = 1.4e3  # range: >= 0
-    k_phi: float = 700e3  # range: > 0
-    c: float = 500.0  # range: >= 0 Pa
-    phi_deg: float = 30.0  # range: (0, 90) deg
-    K: float = 0.015  # range: > 0 m
-    K_y: float | None = None  # range: > 0 m or None
-    a0: float = 0.4  # range: [0, 1)
-    a1: float = 0.15  # range: [-1, 1], 0 <= a0 + a1 <= 1
-    c_exit: float = 0.0  # range: [0, 1]
-    source: str = ""
-    form: str = "bekker"  # choices: bekker, reece
-    n1: float = 0.0  # range: [-1, 2]
-    n2: float = 0.0  # range: [-1, 2]
-    gamma: float = 15.0e3  # range: > 0 N/m^3
-    a1_skid: float | None = None  # range: [-1, 1] or None
-    c_exit1: float = 0.0  # range: [-1, 1]
-    bulldoze: float = 1.0  # range: [0, 10]
-    plough: float = 1.0  # range: [0, 10]
+    name: str = param("soil", doc="label used in reports")
+    n: float = param(1.0, gt=0, lt=3, doc="sinkage exponent at zero slip")
+    k_c: float = param(1.4e3, ge=0, unit="Bekker N/m^(n+1), Reece -", doc="cohesive modulus")
+    k_phi: float = param(700e3, gt=0, unit="Bekker N/m^(n+2), Reece -", doc="frictional modulus")
+    c: float = param(500.0, ge=0, unit="Pa", doc="cohesion")
+    phi_deg: float = param(30.0, gt=0, lt=90, unit="deg", doc="internal friction angle")
+    K: float = param(0.015, gt=0, unit="m", doc="longitudinal shear deformation modulus")
+    K_y: float | None = param(None, gt=0, unit="m", doc="lateral shear deformation modulus (null = K)")
+    a0: float = param(0.4, ge=0, lt=1, doc="theta_m = (a0 + a1 s) theta_1: constant part")
+    a1: float = param(0.15, ge=-1, le=1, doc="slip part of theta_m when driving (0 <= a0 + a1 <= 1)")
+    c_exit: float = param(0.0, ge=0, le=1, doc="exit angle ratio at zero slip (0 = no rebound)")
+    source: str = param("", doc="citation / provenance")
+    form: str = param("bekker", choices=FORMS, doc="pressure-sinkage form: bekker or reece")
+    n1: float = param(0.0, ge=-1, le=2, doc="slip-sinkage coefficient when driving (n + n1 > 0)")
+    n2: float = param(0.0, ge=-1, le=2, doc="slip-sinkage coefficient in skid (n + n2 > 0)")
+    gamma: float = param(15.0e3, gt=0, unit="N/m^3", doc="soil specific weight")
+    a1_skid: float | None = param(None, ge=-1, le=1, doc="slip part of theta_m in skid (null = a1)")
+    c_exit1: float = param(0.0, ge=-1, le=1, doc="slip part of the exit ratio")
+    bulldoze: float = param(1.0, ge=0, le=10, doc="factor on the sidewall bulldozing force (0 = off)")
+    plough: float = param(1.0, ge=0, le=10, doc="factor on the front-face ploughing resistance in skid (0 = off)")
 
     def __post_init__(self) -> None:
-        if self.form not in FORMS:
-            raise ValueError(f"form={self.form!r} is invalid; valid choices: {', '.join(FORMS)}")
-        _check("n", self.n, 0 < self.n < 3, "0 < n < 3")
-        _check("n1", self.n1, -1 <= self.n1 <= 2 and self.n + self.n1 > 0, "-1 <= n1 <= 2 and n + n1 > 0")
-        _check("n2", self.n2, -1 <= self.n2 <= 2 and self.n + self.n2 > 0, "-1 <= n2 <= 2 and n + n2 > 0")
-        _check("k_c", self.k_c, self.k_c >= 0, "k_c >= 0")
-        _check("k_phi", self.k_phi, self.k_phi > 0, "k_phi > 0")
-        _check("c", self.c, self.c >= 0, "c >= 0 Pa")
-        _check("phi_deg", self.phi_deg, 0 < self.phi_deg < 90, "0 < phi_deg < 90 deg")
-        _check("gamma", self.gamma, self.gamma > 0, "gamma > 0 N/m^3")
-        _check("K", self.K, self.K > 0, "K > 0 m")
-        if self.K_y is not None:
-            _check("K_y", self.K_y, self.K_y > 0, "K_y > 0 m")
-        _check("a0", self.a0, 0 <= self.a0 < 1, "0 <= a0 < 1")
-        _check("a1", self.a1, -1 <= self.a1 <= 1 and 0 <= self.a0 + self.a1 <= 1, "-1 <= a1 <= 1 and 0 <= a0 + a1 <= 1")
-        if self.a1_skid is not None:
-            _check("a1_skid", self.a1_skid, -1 <= self.a1_skid <= 1, "-1 <= a1_skid <= 1")
-        _check("c_exit", self.c_exit, 0 <= self.c_exit <= 1, "0 <= c_exit <= 1")
-        _check("c_exit1", self.c_exit1, -1 <= self.c_exit1 <= 1, "-1 <= c_exit1 <= 1")
-        _check("bulldoze", self.bulldoze, 0 <= self.bulldoze <= 10, "0 <= bulldoze <= 10")
-        _check("plough", self.plough, 0 <= self.plough <= 10, "0 <= plough <= 10")
+        check_fields(self)  # the declared ranges; then the checks across fields
+        for key, v in (("n1", self.n1), ("n2", self.n2)):
+            if not self.n + v > 0:
+                raise ConfigError(key, v, f"a number in [-1, 2] with n + {key} > 0 (n = {self.n})")
+        if not 0 <= self.a0 + self.a1 <= 1:
+            raise ConfigError("a1", self.a1, f"a number in [-1, 1] with 0 <= a0 + a1 <= 1 (a0 = {self.a0})")
 
     @property
     def tan_phi(self) -> float:
@@ -178,14 +160,12 @@ class WheelParams:
         mass: (kg), > 0; used by the MuJoCo testbed.
     """
 
-    radius: float = 0.15  # range: > 0 m
-    width: float = 0.12  # range: > 0 m
-    mass: float = 2.0  # range: > 0 kg
+    radius: float = param(0.15, gt=0, unit="m", doc="wheel radius")
+    width: float = param(0.12, gt=0, unit="m", doc="contact width b")
+    mass: float = param(2.0, gt=0, unit="kg", doc="wheel mass (the MuJoCo testbed)")
 
     def __post_init__(self) -> None:
-        _check("radius", self.radius, self.radius > 0, "radius > 0 m")
-        _check("width", self.width, self.width > 0, "width > 0 m")
-        _check("mass", self.mass, self.mass > 0, "mass > 0 kg")
+        check_fields(self)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -23,10 +23,10 @@ from typing import Any, Sequence
 import numpy as np
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
-from terrabench.config import to_dict
+from terrabench.config import check_fields, param, to_dict
 from terrabench.soil.presets import HIT_MRII_WHEEL, MARS_SOFT, SOILS
 from terrabench.soil.terramechanics import SoilParams, WheelParams, steady_state
-from terrabench.systems.base import MethodInfo, System, check_finite_positive
+from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.soil.task import GRAVITY, RigConfig
 
 SCENARIO = "soil/single-wheel-v1"
@@ -56,14 +56,13 @@ class SoilTestbedConfig:
 
     wheel: WheelParams = HIT_MRII_WHEEL
     rig: RigConfig = field(default_factory=RigConfig)
-    control_period: float = 0.01
+    control_period: float = param(0.01, gt=0, unit="s",
+                                  doc="how often the servo targets are re-applied and the log is sampled")
     custom_soil: SoilParams = replace(MARS_SOFT, name="custom", source="user-set (--set custom_soil.*)")
     soil: SoilParams = MARS_SOFT
 
     def __post_init__(self) -> None:
-        check_finite_positive("control_period", self.control_period, "s")
-        check_finite_positive("rig.settle_s", self.rig.settle_s, "s")
-        check_finite_positive("rig.average_s", self.rig.average_s, "s")
+        check_fields(self)
 
 
 def parse_instance(iid: str) -> tuple[str, float, float]:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from terrabench.config import check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.soil.mujoco_soil import SoilWheels, flat_ground
@@ -39,13 +40,17 @@ class RigConfig:
         carriage_mass: (kg), > 0; moves horizontally only, not part of the load.
     """
 
-    omega: float = 1.0  # range: > 0 rad/s
-    timestep: float = 0.001  # range: > 0 s
-    settle_s: float = 1.5  # range: > 0 s
-    average_s: float = 0.5  # range: > 0 s
-    kv_carriage: float = 2e5  # range: > 0 N s/m
-    kv_wheel: float = 2e4  # range: > 0 N m s/rad
-    carriage_mass: float = 5.0  # range: > 0 kg
+    omega: float = param(1.0, gt=0, unit="rad/s", doc="wheel spin when driving (in skid the hub moves at r omega)")
+    timestep: float = param(0.001, gt=0, unit="s", doc="MuJoCo step")
+    settle_s: float = param(1.5, gt=0, unit="s", doc="time before averaging")
+    average_s: float = param(0.5, gt=0, unit="s", doc="averaging window")
+    kv_carriage: float = param(2e5, gt=0, unit="N s/m", doc="carriage velocity-servo gain")
+    kv_wheel: float = param(2e4, gt=0, unit="N m s/rad", doc="wheel servo gain")
+    carriage_mass: float = param(5.0, gt=0, unit="kg",
+                                 doc="carriage mass (moves horizontally only, not part of the load)")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 def add_rig(spec: mujoco.MjSpec, wheel: WheelParams, load: float, cfg: RigConfig = RigConfig()) -> None:

@@ -76,10 +76,17 @@ def test_an_external_package_registers_its_system(tmp_path, monkeypatch):
 
 
 def test_a_system_that_fails_to_import_is_an_error_not_silence(tmp_path, monkeypatch):
+    from terrabench import catalog
+
     _install(tmp_path, monkeypatch, "broken", "broken_terrabench_ext", "broken_terrabench_ext:register")
-    with pytest.raises(SystemImportError, match=r"system 'broken' .* failed to load: ImportError: boom") as err:
-        populate.__wrapped__(Registry())
-    assert isinstance(err.value.__cause__, ImportError)  # the traceback --debug prints
+    reg = populate.__wrapped__(Registry())
+    assert "mrs-cwc" in reg.ids("system") and "broken" not in reg.ids("system")  # the others still load
+    (err,) = catalog._FAILURES[id(reg)].values()
+    assert isinstance(err, SystemImportError) and "system 'broken'" in str(err) and "ImportError: boom" in str(err)
+    assert isinstance(err.__cause__, ImportError)  # the traceback --debug prints
+    monkeypatch.setattr(catalog, "populate", lambda registry=None: reg)
+    with pytest.raises(SystemImportError, match="failed to load"):
+        catalog.system("broken")
 
 
 def test_cli_prints_one_line_and_the_traceback_with_debug(tmp_path, monkeypatch):
@@ -89,11 +96,15 @@ def test_cli_prints_one_line_and_the_traceback_with_debug(tmp_path, monkeypatch)
     from terrabench.cli import app
 
     _install(tmp_path, monkeypatch, "broken", "broken_terrabench_ext", "broken_terrabench_ext:register")
-    monkeypatch.setattr(catalog, "populate", lambda registry=None: populate.__wrapped__(Registry()))
+    reg = populate.__wrapped__(Registry())
+    monkeypatch.setattr(catalog, "populate", lambda registry=None: reg)
     res = CliRunner().invoke(app, ["list"])
     assert res.exit_code == 2 and "failed to load" in res.output and "Traceback" not in res.output
+    assert "mrs-cwc" in res.output  # the systems that load are listed first
     res = CliRunner().invoke(app, ["--debug", "list"])
     assert res.exit_code == 2 and "Traceback" in res.output
+    res = CliRunner().invoke(app, ["run", "broken", "--store", str(tmp_path / "s.duckdb")])
+    assert res.exit_code == 2 and "system 'broken'" in res.output and "failed to load" in res.output
 
 
 def test_plugin_given_as_a_file_path(tmp_path, monkeypatch):

@@ -78,11 +78,32 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 @app.callback()
-def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+def _main(ctx: typer.Context,
+          version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                        help="print the version and exit"),
           debug: bool = typer.Option(False, "--debug", help="print the traceback of an error, too")) -> None:
     """Robots that cross unknown rough terrain by touching it."""
     DEBUG["on"] = debug
+    if ctx.invoked_subcommand != "list":  # list ends with the error itself
+        _warn_broken_systems()
+
+
+def _warn_broken_systems() -> None:
+    """One stderr line per installed system that failed to load."""
+    import sys
+
+    from terrabench.catalog import SystemImportError, load_failures
+
+    try:
+        failures = load_failures()
+    except SystemImportError:
+        return  # a bad TERRABENCH_PLUGINS item: the command itself reports it
+    for err in failures.values():
+        if DEBUG["on"] and err.__cause__ is not None:
+            import traceback
+
+            traceback.print_exception(err.__cause__, file=sys.stderr)
+        err_console.print(f"[yellow]warning:[/] {rich_escape(str(err))}", highlight=False, soft_wrap=True)
 
 @app.command("list")
 @friendly
@@ -112,11 +133,14 @@ def list_cmd(
             prefix = f"{r.system}:" if kind == "method" else ""
             console.print(f"  {prefix}{r.id:<28} {r.summary}", highlight=False)
     console.print("[bold]environments[/] (gymnasium.make)")
+    from terrabench.catalog import load_failures
     from terrabench.catalog import system as get_system
 
     for r in reg.entries("system"):
         for env_id in get_system(r.id).env_ids:
             console.print(f"  {env_id:<28} {r.id}", highlight=False)
+    for err in load_failures().values():
+        raise err
 
 @app.command("config")
 @friendly

@@ -22,7 +22,7 @@ def _task(instance="step-400", method="clm"):
 def test_model_counts():
     task = _task()
     m, _ = compile_scene(task)
-    assert (m.nbody, m.njnt, m.nu, m.nsensor) == (26, 25, 16, 25)
+    assert (m.nbody, m.njnt, m.nu, m.nsensor) == (26, 25, 16, 26)
 
 
 def test_sensing_boundary():
@@ -163,3 +163,31 @@ def test_clm_climbs_and_ccm_limits():
     assert SYSTEM.run_trial(clm_400).status == "success"
     assert SYSTEM.run_trial(ccm_200).status == "success"
     assert SYSTEM.run_trial(ccm_400).status != "success"
+
+
+def test_steer_turns_back_to_the_start_heading():
+    assert clm.steer(0.1, 0.0, 0.2, 0.03) == (0.1, 0.1)
+    vl, vr = clm.steer(0.1, 0.05, 0.2, 0.03)           # turned left: the left side speeds up
+    assert vl > 0.1 > vr and vl - 0.1 == pytest.approx(0.01)
+    assert clm.steer(0.1, -1.0, 0.2, 0.03) == (pytest.approx(0.07), pytest.approx(0.13))  # capped
+    assert clm.steer(0.0, 0.1, 0.2, 0.03) == (pytest.approx(0.02), pytest.approx(-0.02))  # in place
+
+
+def test_gyro_heading_follows_the_true_yaw():
+    """The integrated gyro yaw rate (the heading channel) tracks the simulator's yaw."""
+    import math
+
+    from terrabench.sim.episode import Episode
+
+    spec = SYSTEM.plan(methods=["clm"], instances=["block-500"], seeds=1, overrides={"protocol.timeout": 24.0})[0]
+    cfg = SYSTEM.load_config(spec.config)
+    task = SYSTEM.make_task(spec, cfg)
+    ctl = SYSTEM.make_controller(spec, cfg, task)
+    ep = Episode(task)
+    obs, stop = ep.begin()
+    worst = 0.0
+    while stop is None:
+        obs, stop = ep.step(ctl(obs))
+        xm = ep.data.xmat[task.chassis]
+        worst = max(worst, abs(ctl.heading - math.atan2(xm[3], xm[0])))
+    assert worst < 0.01

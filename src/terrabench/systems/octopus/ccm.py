@@ -19,7 +19,7 @@ import numpy as np
 
 from terrabench.config import param
 from terrabench.systems.base import Transition, events_info
-from terrabench.systems.octopus.clm import Command, flipper_rule
+from terrabench.systems.octopus.clm import Command, flipper_rule, steer
 
 APPROACH, PRESS, PUSH, FLATTEN, ABORT, BACK_OFF = 0, 1, 2, 3, 4, 5
 MODE_NAMES = {APPROACH: "approach", PRESS: "press", PUSH: "push", FLATTEN: "flatten", ABORT: "abort",
@@ -55,6 +55,7 @@ class CCMConfig:
         retries: back-offs before the controller keeps pushing to the end.
         retry_pitch: each retry presses only once the pitch exceeds press_pitch + tries x this
             (rad): the nose rears higher so the flippers can hook over a higher edge.
+        heading_gain, heading_dv: the heading hold, as in CLM (:func:`clm.steer`).
         d_flip: flipper step toward a target per 0.02 s tick (rad).
         stowed_arm: (swing, boom, elbow) of the front arms (rad): the original pose, every joint 0 (the
             paper keeps the front arms "in the original positions"); lifted_arm of the rear arms.
@@ -86,6 +87,8 @@ class CCMConfig:
     back_time: float = param(3.0, ge=0, unit="s", doc="a stall backs off this long, then approaches again")
     retries: int = param(2, ge=0, doc="back-offs before the controller keeps pushing to the end")
     retry_pitch: float = param(0.3, ge=0, unit="rad", doc="extra press pitch per retry")
+    heading_gain: float = param(0.2, ge=0, unit="m/s/rad", doc="crawler speed difference per rad of heading error (0: no heading hold)")
+    heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
     d_flip: float = param(0.03, gt=0, unit="rad/tick", doc="flipper step toward a target per tick")
     stowed_arm: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=-math.pi, le=math.pi, unit="rad",
                                                    doc="(swing, boom, elbow) of the front arms")
@@ -110,6 +113,7 @@ class CCMController:
         self.back_until = 0.0
         self.tries = 0
         self.tau_ref = np.zeros(2)
+        self.heading = 0.0  # integrated gyro yaw rate (rad), as in CLM
         self.events: list[Transition] = []
 
     def info(self) -> dict:
@@ -157,7 +161,8 @@ class CCMController:
 
     def __call__(self, obs) -> Command:
         cfg, c = self.cfg, self.cmd
-        c.track[:] = cfg.track_speed
+        self.heading += obs.yaw_rate * self.dt
+        c.track[0], c.track[1] = steer(cfg.track_speed, self.heading, cfg.heading_gain, cfg.heading_dv)
         p = obs.pitch
         if p > self.peak + 0.02:
             self.peak, self.peak_t = p, obs.t

@@ -54,6 +54,9 @@ class CLMConfig:
         tau_filter: per-tick weight of the elbow torque in its free-motion reference while lowering.
         settle_dz, settle_ticks: a landed tip that moves less than settle_dz (m) a tick for
             settle_ticks ticks has settled: it is a support.
+        heading_gain, heading_dv: the heading hold (:func:`steer`): the gyro yaw rate integrated
+            stands for the operator's move direction; crawler speeds differ by gain x heading
+            (m/s per rad), at most heading_dv (m/s).
         phase_timeout: a transfer's lift or swing phase that has not finished in this long moves on
             to the next phase from where the arm is (s).
         release_d_e, release_d_f: boom and flipper steps of the release (rad/tick): quasi-static
@@ -110,6 +113,8 @@ class CLMConfig:
     settle_ticks: int = param(5, ge=1, doc="ticks of settling before a landed tip is a support")
     stall_dz: float = param(0.04, gt=0, unit="m", doc="a lowering tip this far above its target has landed")
     tilt_contact: float = param(0.01, gt=0, unit="rad", doc="body tilt while an arm lowers that means its tip landed")
+    heading_gain: float = param(0.2, ge=0, unit="m/s/rad", doc="crawler speed difference per rad of heading error (0: no heading hold)")
+    heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
     phase_timeout: float = param(3.0, gt=0, unit="s", doc="a transfer's lift or swing phase unfinished this long moves on")
     release_d_e: float = param(0.005, gt=0, unit="rad/tick", doc="boom step of the release")
     release_d_f: float = param(0.01, gt=0, unit="rad/tick", doc="flipper step of the release")
@@ -190,6 +195,17 @@ def cog_height(rear_tips_c: np.ndarray, h2: float) -> float:
 def travel(s: float, track_speed: float, pitch: float, dt: float) -> float:
     """S += L cos(R_P), L = track_speed * dt (m) (the travel past the edge, no slip)."""
     return s + track_speed * dt * math.cos(pitch)
+
+
+def steer(v: float, heading: float, gain: float, dv_max: float) -> tuple[float, float]:
+    """(left, right) crawler speeds (m/s) that turn the robot back to its start heading.
+
+    ``heading`` (rad, > 0 turned left) is the integrated gyro yaw rate: it stands for the paper's
+    operator, who gave the move direction. The sides differ by ``gain`` x heading, at most
+    ``dv_max`` each way (a robot waiting with ``v`` = 0 turns in place).
+    """
+    dv = max(-dv_max, min(dv_max, gain * heading))
+    return v + dv, v - dv
 
 
 def flipper_rule(a_prev: float, tau_prev: float, t0: float, d_a: float, a0: float, d_b: float) -> tuple[float, str]:
@@ -324,6 +340,7 @@ class CLMController:
         self.started = False
         self.queue_reason: dict[str, str] = {}
         self.s_release = cfg.climb_distance
+        self.heading = 0.0  # integrated gyro yaw rate (rad): the operator's move direction is 0
         self.release_pitch = 0.0
         self.events: list[Transition] = []
 
@@ -557,6 +574,7 @@ class CLMController:
         self.tip_r = ak.fk_all(obs.q_arm, self.robot)
         self.tip_c = self.tip_r @ ak.rotation_rc(obs.roll, obs.pitch).T
         self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].copy()
+        self.heading += obs.yaw_rate * self.dt
         z = self.tip_c[:, 2]
         if self.state == INIT:
             c.track[:] = 0.0
@@ -570,7 +588,7 @@ class CLMController:
         if self.state == WALK:
             # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
             v = 0.0 if self.out_of_reach else cfg.track_speed
-            c.track[:] = v
+            c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
             self.out_of_reach = self._support(obs, v)
             for f in (0, 1):
                 c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)

@@ -98,7 +98,7 @@ def probe_walk(seconds: float = 25.0, overrides: dict | None = None, *, instance
             xy = d.xpos[task.chassis, :2].copy()
             if x0 is None:
                 x0, t0 = xy, t
-            if prev_xy is not None and float(np.abs(cmd.track).min()) > 0:
+            if prev_xy is not None and float(np.min(cmd.track)) > 0.5 * cfg.clm.track_speed:
                 yaw = math.atan2(d.xmat[task.chassis, 3], d.xmat[task.chassis, 0])
                 drive_v.append(float((xy - prev_xy) @ (math.cos(yaw), math.sin(yaw))) / task.timing.control_period)
             prev_xy = xy

@@ -44,6 +44,7 @@ class Names:
     CHASSIS = "chassis"
     ROOT = "root"
     IMU = "imu_quat"
+    GYRO = "imu_gyro"
     SIDES = ("L", "R")
 
     @staticmethod
@@ -260,6 +261,8 @@ def add_robot(spec: mujoco.MjSpec, pos: tuple[float, float, float], yaw: float, 
             _servo(spec, Names.arm_joint(k, j), kp, tq, rng, tq / w)
     # sensors: IMU orientation, encoders of every actuated joint, flipper and elbow torques
     spec.add_sensor(name=Names.IMU, type=mujoco.mjtSensor.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE,
+                    objname="imu")
+    spec.add_sensor(name=Names.GYRO, type=mujoco.mjtSensor.mjSENS_GYRO, objtype=mujoco.mjtObj.mjOBJ_SITE,
                     objname="imu")
     for j in actuated_joints():
         spec.add_sensor(name=Names.pos_sensor(j), type=mujoco.mjtSensor.mjSENS_JOINTPOS,

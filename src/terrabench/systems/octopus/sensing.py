@@ -1,11 +1,13 @@
 """The sensing boundary: what a controller of the OCTOPUS robot may read (50 Hz).
 
-IMU roll and pitch (no yaw, no position), the encoders of the flipper and arm joints, the
+IMU roll and pitch and the yaw rate from its gyro (no yaw angle, no position), the encoders of the flipper and arm joints, the
 flipper joint torques and the elbow torques. Nothing about the terrain, no contacts: the paper's
 "the control system knows nothing about the terrain in advance".
 """
 
 from __future__ import annotations
+
+import math
 
 import mujoco
 import numpy as np
@@ -14,7 +16,7 @@ from terrabench.sim.checks import roll_pitch  # noqa: F401 - re-exported: the IM
 from terrabench.systems.octopus.robot import Names, actuated_joints, torque_joints
 
 #: every field an observation carries (the sensing-boundary test pins this list)
-FIELDS = ("t", "roll", "pitch", "q_flip", "q_arm", "tau_flip", "tau_elbow")
+FIELDS = ("t", "roll", "pitch", "yaw_rate", "q_flip", "q_arm", "tau_flip", "tau_elbow")
 
 
 class Observation:
@@ -23,18 +25,22 @@ class Observation:
     Attributes:
         t: time (s).
         roll, pitch: IMU angles (rad): roll > 0 left side up, pitch > 0 nose up.
+        yaw_rate: rate of the heading (rad/s, > 0 turning left) from the IMU's gyro and its roll
+            and pitch; a controller may integrate it into a heading (it drifts on a real robot).
         q_flip: flipper angles (rad), order LF, RF, LR, RR; > 0 lifts the tip.
         q_arm: (4, 3) arm joints (swing, boom, elbow) (rad), arms LF, RF, LR, RR.
         tau_flip: flipper joint torques (N m), same order.
         tau_elbow: elbow joint torques (N m), arms LF, RF, LR, RR.
     """
 
-    __slots__ = ("_d", "_q", "_tau", "_quat", "t", "roll", "pitch", "q_flip", "q_arm", "tau_flip", "tau_elbow")
+    __slots__ = ("_d", "_q", "_tau", "_quat", "_gyro", "t", "roll", "pitch", "yaw_rate", "q_flip", "q_arm",
+                 "tau_flip", "tau_elbow")
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
         self._d = data
         adr = lambda name: int(model.sensor_adr[model.sensor(name).id])  # noqa: E731
         self._quat = adr(Names.IMU)
+        self._gyro = adr(Names.GYRO)
         self._q = np.array([adr(Names.pos_sensor(j)) for j in actuated_joints()])
         self._tau = np.array([adr(Names.torque_sensor(j)) for j in torque_joints()])
         self.refresh()
@@ -43,6 +49,10 @@ class Observation:
         s = self._d.sensordata
         self.t = float(self._d.time)
         self.roll, self.pitch = roll_pitch(s[self._quat: self._quat + 4])
+        g = self._gyro
+        # Z-Y-X Euler rate of the heading from body rates: (wy sin(roll) + wz cos(roll)) / cos(pitch)
+        self.yaw_rate = ((float(s[g + 1]) * math.sin(self.roll) + float(s[g + 2]) * math.cos(self.roll))
+                         / max(math.cos(self.pitch), 1e-3))
         q = s[self._q]
         self.q_flip = q[:4].copy()
         self.q_arm = q[4:].reshape(4, 3).copy()
@@ -55,8 +65,9 @@ class Observation:
 class FakeObservation:
     """A hand-made observation (tests, studies): the same fields, set directly."""
 
-    def __init__(self, t=0.0, roll=0.0, pitch=0.0, q_flip=None, q_arm=None, tau_flip=None, tau_elbow=None):
-        self.t, self.roll, self.pitch = t, roll, pitch
+    def __init__(self, t=0.0, roll=0.0, pitch=0.0, q_flip=None, q_arm=None, tau_flip=None, tau_elbow=None,
+                 yaw_rate=0.0):
+        self.t, self.roll, self.pitch, self.yaw_rate = t, roll, pitch, yaw_rate
         self.q_flip = np.zeros(4) if q_flip is None else np.asarray(q_flip, float)
         self.q_arm = np.zeros((4, 3)) if q_arm is None else np.asarray(q_arm, float)
         self.tau_flip = np.zeros(4) if tau_flip is None else np.asarray(tau_flip, float)

@@ -7,9 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
-
-from terrabench.config import from_dict, to_dict
+from terrabench.config import check_fields, from_dict, param, to_dict
 
 from .control import ControlConfig
 from .estimation import EstimatorConfig, SensingConfig
@@ -27,33 +25,33 @@ OPEN_LOOP_CASES = {"stiff": (0.25, 0.25), "flimsy": (0.01, 0.01)}
 class ExperimentSetup:
     """The physical robot and beams of Sec. IV (values from the paper unless noted)."""
 
-    a: float = 0.19
+    a: float = param(0.19, gt=0, unit="m", doc="Robot semi-axis, m")
     """Robot semi-axis, m."""
-    b: float = 0.09
+    b: float = param(0.09, gt=0, unit="m", doc="Robot semi-axis, m")
     """Robot semi-axis, m."""
-    c: float = 0.035
+    c: float = param(0.035, gt=0, unit="m", doc="Robot semi-axis, m")
     """Robot semi-axis, m."""
-    mass: float = 0.8
+    mass: float = param(0.8, gt=0, unit="kg", doc="Robot mass, kg")
     """Robot mass, kg."""
-    h_c: float = 0.003
+    h_c: float = param(0.003, ge=0, unit="m", doc="Centre of mass below the geometric centre, m")
     """Centre of mass below the geometric centre, m."""
-    height: float = 0.07
+    height: float = param(0.07, gt=0, unit="m", doc="Centre height above the beams' base, m (not given")
     """Centre height above the beams' base, m (not given; chosen = 2c as in the simulated robot)."""
-    length: float = 0.305
+    length: float = param(0.305, gt=0, unit="m", doc="Beam height L, m")
     """Beam height L, m."""
-    width: float = 0.1
+    width: float = param(0.1, gt=0, unit="m", doc="Beam width w, m")
     """Beam width w, m."""
-    gap: float = 0.15
+    gap: float = param(0.15, gt=0, unit="m", doc="Gap d, m")
     """Gap d, m."""
-    beam_mass: float = 0.16
+    beam_mass: float = param(0.16, ge=0, unit="kg", doc="Beam mass M_B, kg")
     """Beam mass M_B, kg."""
-    k: float = 0.78
+    k: float = param(0.78, ge=0, unit="N m/rad", doc="Stiffness of both beams, N m/rad")
     """Stiffness of both beams, N m/rad."""
-    tau0: float = 0.19
+    tau0: float = param(0.19, ge=0, unit="N m", doc="Preload torque of both beams, N m")
     """Preload torque of both beams, N m."""
-    speed: float = 0.064
+    speed: float = param(0.064, gt=0, unit="m/s", doc="Constant carriage speed, m/s")
     """Constant carriage speed, m/s."""
-    sensing_time: float = 0.3
+    sensing_time: float = param(0.3, gt=0, unit="s", doc="Force window used for the fit, s (not given")
     """Force window used for the fit, s (not given; chosen: the simulated passive robot, whose
     centre of mass is only 3 mm below its pivot, pitches past 90 deg ~0.31 s after contact)."""
 
@@ -73,108 +71,96 @@ class ExperimentSetup:
 class CaseSection:
     """The true beams of a trial (what the robot must find out)."""
 
-    k1: float = 0.25
+    k1: float = param(0.25, ge=0, unit="N m/rad", doc="True stiffness of the left beam, N m/rad")
     """True stiffness of the left beam, N m/rad."""
-    k2: float = 0.27
+    k2: float = param(0.27, ge=0, unit="N m/rad", doc="True stiffness of the right beam, N m/rad")
     """True stiffness of the right beam, N m/rad."""
-    hb1: float = 0.0
+    hb1: float = param(0.0, unit="m", doc="True hinge height of the left beam, m")
     """True hinge height of the left beam, m."""
-    hb2: float = 0.0
+    hb2: float = param(0.0, unit="m", doc="True hinge height of the right beam, m")
     """True hinge height of the right beam, m."""
 
     def __post_init__(self) -> None:
-        for n in ("k1", "k2"):
-            v = getattr(self, n)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"case.{n} = {v!r} N m/rad is invalid; stiffness must be >= 0")
-        for n in ("hb1", "hb2"):
-            if not np.isfinite(getattr(self, n)):
-                raise ValueError(f"case.{n} = {getattr(self, n)!r} m is not finite")
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class SensingSection:
     """How the force data are collected (paper Secs. II-D, III-B)."""
 
-    sigma: float = 0.2
+    sigma: float = param(0.2, ge=0, doc="Multiplicative force-noise standard deviation (eq")
     """Multiplicative force-noise standard deviation (eq. 6; 0.2 = 20 %)."""
-    sensing_time: float = 0.3
+    sensing_time: float = param(0.3, gt=0, unit="s", doc="Sensing window T_s, s (estimation and experiment")
     """Sensing window T_s, s (estimation and experiment; traversals use protocol.delay)."""
-    push_force: float = 1.0
+    push_force: float = param(1.0, ge=0, unit="N",
+                              doc="Open-loop F_x after contact while sensing (and in open-loop runs), N")
     """Open-loop F_x after contact while sensing (and in open-loop runs), N."""
-    sample_rate: float = 100.0
+    sample_rate: float = param(100.0, gt=0, unit="Hz", doc="Force-sensor sampling rate, Hz")
     """Force-sensor sampling rate, Hz."""
-    lookahead: float = 0.3
+    lookahead: float = param(0.3, ge=0, unit="s",
+                             doc="Extra simulated time after the window, only to check that contact goes on, s")
     """Extra simulated time after the window, only to check that contact goes on, s."""
-    max_approach_time: float = 5.0
+    max_approach_time: float = param(5.0, gt=0, unit="s", doc="Give up looking for first contact after this long, s")
     """Give up looking for first contact after this long, s."""
-    per_axis_noise: bool = True
+    per_axis_noise: bool = param(True,
+                                 doc="Draw the noise Z independently per force axis (True) or once per sample (False)")
     """Draw the noise Z independently per force axis (True) or once per sample (False)."""
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.sigma) and self.sigma >= 0):
-            raise ValueError(f"sensing.sigma = {self.sigma!r} is invalid; noise must be >= 0 (0.2 = 20 %)")
-        for n in ("sensing_time", "sample_rate", "max_approach_time"):
-            v = getattr(self, n)
-            if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"sensing.{n} = {v!r} is invalid; it must be > 0")
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class PhysicsSection:
     """The analytic integrator (paper Sec. II-B)."""
 
-    dt: float = 2e-4
+    dt: float = param(2e-4, gt=0, unit="s", doc="Integration step, s")
     """Integration step, s."""
-    gravity: float = GRAVITY
+    gravity: float = param(GRAVITY, gt=0, unit="m/s^2", doc="Gravitational acceleration, m/s^2")
     """Gravitational acceleration, m/s^2."""
-    pitch_axis: str = "generalized"
+    pitch_axis: str = param("generalized", choices=("generalized", "principal"),
+                            doc="Axis of the pitch equation: 'generalized' (world -y) or 'principal' (body e2)")
     """Axis of the pitch equation: "generalized" (world -y) or "principal" (body e2)."""
-    min_lever: float = 1e-3
+    min_lever: float = param(1e-3, gt=0, unit="m", doc="Smallest moment arm of a contact force about a hinge, m")
     """Smallest moment arm of a contact force about a hinge, m."""
-    damping: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    damping: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=0,
+                                                doc="viscous damping on (x, alpha, beta): N s/m, N m s/rad, N m s/rad")
     """Viscous damping on (x, alpha, beta): N s/m, N m s/rad, N m s/rad (paper: none)."""
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"physics.dt = {self.dt!r} s is invalid; it must be > 0")
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class ProtocolSection:
     """What a trial does: strategy, timing, start and exit."""
 
-    strategy: str = "interact"
+    strategy: str = param("interact", choices=("interact", "avoid"), doc="'interact' or 'avoid' (traversal)")
     """"interact" or "avoid" (traversal)."""
-    delay: float = 0.3
+    delay: float = param(0.3, gt=0, unit="s", doc="Sensory delay from first contact to active control, s (traversal")
     """Sensory delay from first contact to active control, s (traversal; = its sensing window)."""
-    t_max: float = 8.0
+    t_max: float = param(8.0, gt=0, unit="s", doc="Simulated time after contact for open-loop runs, s")
     """Simulated time after contact for open-loop runs, s."""
-    settle_time: float = 1.0
+    settle_time: float = param(1.0, ge=0, unit="s", doc="Extra tracking time after the planned trajectory ends, s")
     """Extra tracking time after the planned trajectory ends, s."""
-    approach: float = 0.018
+    approach: float = param(0.018, ge=0, unit="m",
+                            doc="The level robot starts this far behind its first contact with the vertical beams, m")
     """The level robot starts this far behind its first contact with the vertical beams, m; the
     start x is rounded to the mm (0.018 m gives the paper-era x = -0.08 m under the edge
     reading, where first contact is at x = -0.0618 m; -0.122 m under the centre reading)."""
-    x_exit: float = 0.11
+    x_exit: float = param(0.11, unit="m",
+                          doc="A traversal succeeds once x >= x_exit with no beam contact and a near-level pose, m")
     """A traversal succeeds once x >= x_exit with no beam contact and a near-level pose, m."""
-    roll_deg: float = 0.0
+    roll_deg: float = param(0.0, ge=-90, le=90, unit="deg", doc="Contact check: roll held during the push, deg")
     """Contact check: roll held during the push, deg."""
-    pitch_deg: float = 0.0
+    pitch_deg: float = param(0.0, ge=-90, le=90, unit="deg", doc="Contact check: pitch held during the push, deg")
     """Contact check: pitch held during the push, deg."""
-    timeout: float = 1000.0
+    timeout: float = param(1000.0, gt=0, unit="s", doc="Simulated-time cap of every run of a trial, s (``--timeout``)")
     """Simulated-time cap of every run of a trial, s (``--timeout``); a trial stopped by it has
     status "timeout". The default never binds (the longest run lasts about 9 s)."""
 
     def __post_init__(self) -> None:
-        if self.strategy not in ("interact", "avoid"):
-            raise ValueError(f"protocol.strategy = {self.strategy!r}; valid: interact, avoid")
-        for n in ("delay", "t_max", "timeout"):
-            v = getattr(self, n)
-            if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"protocol.{n} = {v!r} s is invalid; it must be > 0")
-        if not (np.isfinite(self.approach) and self.approach >= 0):
-            raise ValueError(f"protocol.approach = {self.approach!r} m is invalid; it must be >= 0")
+        check_fields(self)
 
 
 KINDS = ("estimation", "traversal", "open-loop", "experiment", "contact-check", "barriers")
@@ -185,7 +171,8 @@ class TrialConfig:
     """Every knob of a beams trial, as nested sections (stored whole with each trial, hashed
     into its key, overridden with ``--set section.field=value``)."""
 
-    kind: str = "traversal"
+    kind: str = param("traversal", choices=KINDS,
+                      doc="'estimation', 'traversal', 'open-loop', 'experiment', 'contact-check' or 'barriers'")
     """"estimation", "traversal", "open-loop", "experiment", "contact-check" or "barriers"."""
     robot: RobotParams = field(default_factory=RobotParams)
     """The ellipsoid robot (paper Sec. II-A): semi-axes m, mass kg, h_c m, inertia kg m^2, ..."""
@@ -213,8 +200,7 @@ class TrialConfig:
     """The physical setup of Sec. IV (experiment trials only)."""
 
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"kind = {self.kind!r}; valid: {', '.join(KINDS)}")
+        check_fields(self)
 
     def to_dict(self) -> dict[str, Any]:
         return to_dict(self)

@@ -7,6 +7,8 @@ from typing import Sequence
 
 import numpy as np
 
+from terrabench.config import param
+
 from .contact import contact_scalar, generalized_forces
 from .geometry import Beam, BeamLayout, RobotParams, _quad_form
 from .planning import Plan
@@ -16,15 +18,16 @@ from .planning import Plan
 class ControlConfig:
     """Tracking controller settings."""
 
-    period: float = 2e-3
+    period: float = param(2e-3, gt=0, unit="s", doc="Control period, s (paper: 0.002)")
     """Control period, s (paper: 0.002)."""
-    omega_n: float = 10.0
+    omega_n: float = param(10.0, gt=0, unit="rad/s",
+                           doc="Closed-loop natural frequency of each coordinate's error dynamics, rad/s")
     """Closed-loop natural frequency of each coordinate's error dynamics, rad/s."""
-    zeta: float = 1.0
+    zeta: float = param(1.0, gt=0, doc="Closed-loop damping ratio")
     """Closed-loop damping ratio."""
-    fx_max: float = 2.0
+    fx_max: float = param(2.0, gt=0, unit="N", doc="|F_x| limit, N (paper)")
     """|F_x| limit, N (paper)."""
-    tau_max: float = 0.1
+    tau_max: float = param(0.1, gt=0, unit="N m", doc="|tau_1|, |tau_2| limit, N m (paper)")
     """|tau_1|, |tau_2| limit, N m (paper)."""
 
 

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from terrabench.config import check_fields, param
+
 from .model import Beam, ModelConfig, SimLog, SimulatedTimeout, deflection_vec, simulate
 
 #: Names of the fitted parameters per estimation variant (number of unknowns).
@@ -69,30 +71,30 @@ class SensingConfig:
 class EstimatorConfig:
     """The fit of eq. 7."""
 
-    n_unknowns: int = 3
+    n_unknowns: int = param(3, choices=tuple(VARIANTS), doc="4: (k1, k2, hb1, hb2)")
     """4: (k1, k2, hb1, hb2); 3: (k1, k2, hb1 = hb2); 2: (k1, k2) with hb1 = hb2 = known_hb."""
-    n_starts: int = 100
+    n_starts: int = param(100, ge=1, doc="Random initial guesses (paper: 100)")
     """Random initial guesses (paper: 100)."""
-    k_start_range: tuple[float, float] = (0.0, 5.0)
+    k_start_range: tuple[float, float] = param((0.0, 5.0), length=2, ge=0, unit="N m/rad",
+                                               doc="Range of initial stiffness guesses, N m/rad (paper: [0, 5])")
     """Range of initial stiffness guesses, N m/rad (paper: [0, 5])."""
-    hb_start_range_mm: tuple[float, float] = (0.0, 5.0)
+    hb_start_range_mm: tuple[float, float] = param((0.0, 5.0), length=2, unit="mm",
+                                                   doc="Range of initial hinge-height guesses, mm (paper: [0, 5])")
     """Range of initial hinge-height guesses, mm (paper: [0, 5])."""
-    hb_grid_mm: tuple[float, float, float] = (-20.0, 40.0, 0.1)
+    hb_grid_mm: tuple[float, float, float] = param((-20.0, 40.0, 0.1), length=3, unit="mm",
+                                                   doc="(min, max, step) of the hinge-height table, mm")
     """(min, max, step) of the hinge-height table, mm; estimates are confined to [min, max]."""
-    known_hb: float = 0.0
+    known_hb: float = param(0.0, unit="m", doc="Hinge height assumed known in the 2-unknown variant, m")
     """Hinge height assumed known in the 2-unknown variant, m."""
-    max_iter_per_dim: int = 200
+    max_iter_per_dim: int = param(200, ge=1, doc="Iteration cap per unknown (fminsearch default MaxIter = 200 n)")
     """Iteration cap per unknown (fminsearch default MaxIter = 200 n)."""
-    xatol: float = 1e-4
+    xatol: float = param(1e-4, gt=0, doc="Simplex size tolerance (fminsearch TolX)")
     """Simplex size tolerance (fminsearch TolX)."""
-    fatol: float = 1e-4
+    fatol: float = param(1e-4, gt=0, doc="Objective spread tolerance, N (fminsearch TolFun)")
     """Objective spread tolerance, N (fminsearch TolFun)."""
 
     def __post_init__(self) -> None:
-        if self.n_unknowns not in VARIANTS:
-            raise ValueError(f"n_unknowns = {self.n_unknowns!r}; valid: 4, 3 or 2")
-        if self.n_starts < 1:
-            raise ValueError(f"n_starts = {self.n_starts!r}; it must be >= 1")
+        check_fields(self)
 
 
 @dataclass

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from terrabench.config import check_fields, param
+
 #: Gravitational acceleration, m/s^2.
 GRAVITY = 9.81
 
@@ -32,52 +34,49 @@ def _check(name: str, value: float, *, positive: bool = False, nonneg: bool = Fa
 class RobotParams:
     """The rigid ellipsoid robot (paper Sec. II-A)."""
 
-    a: float = 0.12
+    a: float = param(0.12, gt=0, unit="m", doc="Semi-axis along the body's long (roll) axis e1, m")
     """Semi-axis along the body's long (roll) axis e1, m."""
-    b: float = 0.07
+    b: float = param(0.07, gt=0, unit="m", doc="Semi-axis along the body's lateral (pitch) axis e2, m")
     """Semi-axis along the body's lateral (pitch) axis e2, m."""
-    c: float = 0.03
+    c: float = param(0.03, gt=0, unit="m", doc="Semi-axis along the body's vertical axis e3, m")
     """Semi-axis along the body's vertical axis e3, m."""
-    mass: float = 0.2
+    mass: float = param(0.2, gt=0, unit="kg", doc="Robot mass M, kg")
     """Robot mass M, kg."""
-    h_c: float = 0.02
+    h_c: float = param(0.02, ge=0, unit="m",
+                       doc="Distance of the centre of mass below the centre of rotation along -e3, m")
     """Distance of the centre of mass below the centre of rotation along -e3, m."""
-    inertia: tuple[float, float, float] = (2e-3, 5e-3, 7e-3)
+    inertia: tuple[float, float, float] = param((2e-3, 5e-3, 7e-3), length=3, gt=0, unit="kg m^2",
+                                                doc="Principal moments of inertia (I1, I2, I3), kg m^2")
     """Principal moments of inertia (I1, I2, I3), kg m^2."""
-    height: float = 0.06
+    height: float = param(0.06, gt=0, unit="m",
+                          doc="Height H of the geometric centre (= centre of rotation) above the ground, m")
     """Height H of the geometric centre (= centre of rotation) above the ground, m."""
-    v0: float = 0.05
+    v0: float = param(0.05, ge=0, unit="m/s", doc="Forward speed before contact (zero inputs), m/s")
     """Forward speed before contact (zero inputs), m/s."""
 
     def __post_init__(self) -> None:
-        for n in ("a", "b", "c", "mass", "height"):
-            _check(f"robot.{n}", getattr(self, n), positive=True)
-        _check("robot.h_c", self.h_c, nonneg=True)
-        for i, val in enumerate(self.inertia):
-            _check(f"robot.inertia[{i}]", val, positive=True)
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class BeamLayout:
     """Where the two beams stand and how big they are (paper Sec. II-A)."""
 
-    gap: float = 0.12
+    gap: float = param(0.12, gt=0, unit="m", doc="Gap d between the two beams, m (centred on the x axis)")
     """Gap d between the two beams, m (centred on the x axis); what it spans is ``gap_reading``."""
-    width: float = 0.05
+    width: float = param(0.05, gt=0, unit="m", doc="Width w of each plate along y, m")
     """Width w of each plate along y, m."""
-    length: float = 0.16
+    length: float = param(0.16, gt=0, unit="m",
+                          doc="Height L of each beam's top edge above the ground when vertical, m")
     """Height L of each beam's top edge above the ground when vertical, m."""
-    gap_reading: str = "edge"
+    gap_reading: str = param("edge", choices=GAP_READINGS, doc="How d is measured (paper Sec")
     """How d is measured (paper Sec. II-A, "The gap width between two beams is d = 0.12 m"):
     ``"edge"``: between the plates' inner edges (the free gap is d; plates at |y| in
     [d/2, d/2 + w]); ``"centre"``: between the plates' centre lines (the free gap is d - w;
     plates at |y| in [(d - w)/2, (d + w)/2])."""
 
     def __post_init__(self) -> None:
-        for n in ("gap", "width", "length"):
-            _check(f"layout.{n}", getattr(self, n), positive=True)
-        if self.gap_reading not in GAP_READINGS:
-            raise ValueError(f"layout.gap_reading = {self.gap_reading!r}; valid: {', '.join(GAP_READINGS)}")
+        check_fields(self)
         if self.inner_gap <= 0:
             raise ValueError(f"layout.gap = {self.gap!r} m read centre-to-centre leaves no free gap between "
                              f"plates {self.width!r} m wide; it must exceed the width")

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from terrabench.config import ConfigError, check_fields, param
+
 from .model import Beam, BeamLayout, RobotParams, com_height, deflection_vec
 
 
@@ -25,22 +27,24 @@ from .model import Beam, BeamLayout, RobotParams, com_height, deflection_vec
 class LandscapeConfig:
     """The landscape grid (paper Sec. II-F)."""
 
-    x_min: float = -0.12
+    x_min: float = param(-0.12, unit="m", doc="Lowest forward position, m")
     """Lowest forward position, m."""
-    x_max: float = 0.12
+    x_max: float = param(0.12, unit="m", doc="Highest forward position, m")
     """Highest forward position, m."""
-    dx: float = 0.002
+    dx: float = param(0.002, gt=0, unit="m", doc="Forward step, m")
     """Forward step, m."""
-    angle_max_deg: float = 90.0
+    angle_max_deg: float = param(90.0, gt=0, le=180, unit="deg", doc="Roll and pitch span [-angle_max, angle_max], deg")
     """Roll and pitch span [-angle_max, angle_max], deg."""
-    dangle_deg: float = 2.0
+    dangle_deg: float = param(2.0, gt=0, unit="deg", doc="Roll and pitch step, deg")
     """Roll and pitch step, deg."""
-    hb_quantum: float = 1e-4
+    hb_quantum: float = param(1e-4, gt=0, unit="m",
+                              doc="Hinge heights are rounded to this before building deflection fields, m")
     """Hinge heights are rounded to this before building deflection fields, m."""
 
     def __post_init__(self) -> None:
-        if not (self.x_max > self.x_min and self.dx > 0 and self.dangle_deg > 0 and self.angle_max_deg > 0):
-            raise ValueError(f"invalid landscape grid {self}")
+        check_fields(self)
+        if not self.x_max > self.x_min:
+            raise ConfigError("x_max", self.x_max, f"a number > x_min = {self.x_min} (m)")
         ratio = self.angle_max_deg / self.dangle_deg
         if abs(ratio - round(ratio)) > 1e-9:
             raise ValueError(f"dangle_deg = {self.dangle_deg} must divide angle_max_deg = {self.angle_max_deg} "

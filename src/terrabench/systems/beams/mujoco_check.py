@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from terrabench.benchmark.trial import TrialResult
+from terrabench.config import param
 
 from .model import Beam, BeamLayout, RobotParams, SimulatedTimeout, contact_scalar
 
@@ -26,26 +27,28 @@ from .model import Beam, BeamLayout, RobotParams, SimulatedTimeout, contact_scal
 class CheckConfig:
     """Settings of the quasi-static pushes."""
 
-    thickness: float = 0.002
+    thickness: float = param(0.002, gt=0, unit="m", doc="Plate thickness in MuJoCo, m (the analytic plate has none)")
     """Plate thickness in MuJoCo, m (the analytic plate has none)."""
-    beam_mass: float = 0.002
+    beam_mass: float = param(0.002, gt=0, unit="kg", doc="Plate mass in MuJoCo, kg (the analytic beam is massless")
     """Plate mass in MuJoCo, kg (the analytic beam is massless; a small mass keeps MuJoCo stable)."""
-    timestep: float = 5e-5
+    timestep: float = param(5e-5, gt=0, unit="s", doc="MuJoCo time step, s (small enough for the stiff contact below)")
     """MuJoCo time step, s (small enough for the stiff contact below)."""
-    settle_time: float = 0.05
+    settle_time: float = param(0.05, ge=0, unit="s", doc="Dwell at each measurement position, s")
     """Dwell at each measurement position, s."""
-    push_speed: float = 0.02
+    push_speed: float = param(0.02, gt=0, unit="m/s", doc="Speed of the imposed push between positions, m/s")
     """Speed of the imposed push between positions, m/s."""
-    push: float = 0.03
+    push: float = param(0.03, gt=0, unit="m", doc="Push distance past first contact, m")
     """Push distance past first contact, m."""
-    n_positions: int = 7
+    n_positions: int = param(7, ge=1, doc="Push positions (the first is just after first contact)")
     """Push positions (the first is just after first contact)."""
-    solref: tuple[float, float] = (-1e6, -60.0)
+    solref: tuple[float, float] = param((-1e6, -60.0), length=2,
+                                        doc="contact solref: (timeconst s, dampratio) or (-stiffness, -damping)")
     """MuJoCo contact solref: (time constant s, damping ratio), or negative (-stiffness N/m,
     -damping N s/m) for direct stiffness."""
-    soft_solref: tuple[float, float] = (0.002, 1.0)
+    soft_solref: tuple[float, float] = param((0.002, 1.0), length=2, gt=0,
+                                             doc="solref of the second, default-like soft push")
     """solref of the second, default-like soft push that shows what penetration costs."""
-    soft_timestep: float = 2e-4
+    soft_timestep: float = param(2e-4, gt=0, unit="s", doc="MuJoCo time step of the soft push, s")
     """MuJoCo time step of the soft push, s."""
 
 

@@ -17,6 +17,8 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from terrabench.config import param
+
 from .landscape import Landscape
 
 
@@ -24,16 +26,17 @@ from .landscape import Landscape
 class PlannerConfig:
     """Graph search and trajectory fit."""
 
-    edge_epsilon: float = 1e-7
+    edge_epsilon: float = param(1e-7, gt=0,
+                                doc="cost added to every edge, J (keeps zero-cost edges in the graph)")
     """Cost added to every edge, J: keeps zero-cost (falling) edges in the sparse graph and
     prefers the shortest of equally cheap paths; 300 edges add 0.03 mJ."""
-    vertex_time: float = 0.02
+    vertex_time: float = param(0.02, gt=0, unit="s", doc="Time between consecutive path vertices, s (paper)")
     """Time between consecutive path vertices, s (paper)."""
-    poly_order: int = 5
+    poly_order: int = param(5, ge=1, doc="Order of the per-coordinate polynomial fit (paper: fifth)")
     """Order of the per-coordinate polynomial fit (paper: fifth)."""
-    forbid_contact: bool = False
+    forbid_contact: bool = param(False, doc="Remove edges into poses touching a beam (the obstacle-avoidance baseline)")
     """Remove edges into poses touching a beam (the obstacle-avoidance baseline)."""
-    target_x: float | None = None
+    target_x: float | None = param(None, unit="m", doc="x of the target level pose, m (None: the grid's last x)")
     """x of the target level pose, m (None: the grid's last x)."""
 
 

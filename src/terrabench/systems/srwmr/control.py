@@ -137,6 +137,7 @@ class RoverController:
         self.returning = False
         self.stop = ""
         self.sb = 0.0
+        self.vb_f = self.vc_f = 0.0
         self.hist: list[tuple[float, float, float]] = []  # (t, x_progress, commanded progress)
         self.cmd_prog = 0.0
         self.health_t: float | None = None
@@ -222,9 +223,12 @@ class RoverController:
         # --- body-slip estimate, health monitor, climbing efficiency
         v_cmd = float(self.u_prev[0])
         if st.mode == "WRM" and abs(v_cmd) > 1e-4:
-            sb = 1.0 - obs.v_body[0] / v_cmd
+            # s_b = 1 - v_b / v_cmd from filtered speeds (the ratio of raw samples explodes while the
+            # command ramps up from zero)
             a = ts / self.sup.slip_tau
-            self.sb += a * (sb - self.sb)
+            self.vb_f += a * (obs.v_body[0] - self.vb_f)
+            self.vc_f += a * (v_cmd - self.vc_f)
+            self.sb = 1.0 - self.vb_f / self.vc_f if abs(self.vc_f) >= 0.5 * abs(st.v) else 0.0
             if self.sb >= self.sup.health_slip:
                 self.health_t = self.health_t if self.health_t is not None else obs.t
                 if obs.t - self.health_t >= self.sup.health_s:

@@ -185,12 +185,14 @@ def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, l
     return mu, spin
 
 
-def forward_kinematics(cfg: RobotConfig, spin, mu, delta, ddelta=(0.0, 0.0), grounded=None) -> np.ndarray:
+def forward_kinematics(cfg: RobotConfig, spin, mu, delta, ddelta=(0.0, 0.0), grounded=None,
+                       mu_geom=None) -> np.ndarray:
     """Body twist (vx, vy, wz) explaining wheel spins (rad/s) and steering angles (rad) of the
-    grounded wheels, rolling without slip, given the rocker rates (least squares)."""
+    grounded wheels, rolling without slip, given the rocker rates (least squares). ``mu_geom``:
+    the steering angles that place the offset contact points (default ``mu``)."""
     spin, mu = np.asarray(spin, float), np.asarray(mu, float)
     g = np.ones(6, bool) if grounded is None else np.asarray(grounded, bool)
-    M = wheel_velocity_matrix(cfg, delta, mu=mu)
+    M = wheel_velocity_matrix(cfg, delta, mu=mu if mu_geom is None else mu_geom)
     rim = cfg.wheel_radius * spin
     rhs = np.empty(12)
     rhs[0::2] = rim * np.cos(mu)

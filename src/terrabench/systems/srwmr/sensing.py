@@ -56,6 +56,9 @@ class Observation:
         self._gyro = int(model.sensor_adr[model.sensor(Names.GYRO).id])
         self._pillar = np.array([model.site(Names.ft(c)).id for c in WHEELS])
         self._chassis = model.body(Names.CHASSIS).id
+        # gravity compensation of the F/T reading: the weight of the pillar and wheel below the sensor
+        g = float(np.linalg.norm(model.opt.gravity))
+        self._below = np.array([model.body_subtreemass[model.body(Names.pillar(c)).id] * g for c in WHEELS])
         self._root = jv(Names.ROOT)
         self.rng = rng
         self.load_noise, self.speed_noise, self.pose_noise = load_noise, speed_noise, pose_noise
@@ -78,7 +81,8 @@ class Observation:
         # F/T sensor: force the pillar transmits (site frame); the load is the component along
         # the pillar (-z of the site frame carries the wheel), then rotated
         f = s[self._ft[:, None] + np.arange(3)]
-        self.load = -f[:, 2] + rng.normal(0.0, self.load_noise, 6) if self.load_noise else -f[:, 2]
+        load = -f[:, 2] + self._below
+        self.load = load + rng.normal(0.0, self.load_noise, 6) if self.load_noise else load
         ch = self._chassis
         yaw = self.rpy[2]
         self.xy = d.xpos[ch, :2] + rng.normal(0.0, self.pose_noise, 2)

@@ -1,0 +1,91 @@
+"""MC#1-#11 ratios, the DAQP-saturated IK, metrics and the soil calibration (pure functions)."""
+
+import numpy as np
+import pytest
+
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr import metrics as mt
+from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK, build_qp
+from terrabench.systems.srwmr.robot import RobotConfig
+
+CFG = RobotConfig()
+SC = mc.Scales()
+
+
+def test_mc1_allowed_and_forbidden_lifts():
+    for lift in mc.ALLOWED_LIFTS:
+        mc.mc1_check(lift)
+    for bad in (("c1", "c5"), ("c1", "c3"), ("c1", "c2", "c3"), ("c2", "c6")):
+        with pytest.raises(ValueError, match="violates MC#1.*allowed lifts: c1, c2"):
+            mc.mc1_check(bad)
+    with pytest.raises(ValueError, match="unknown wheel"):
+        mc.mc1_check(("c9",))
+
+
+def test_load_figures_and_ratios():
+    w = [380, 380, 380, 380, 380, 380]
+    assert mc.w_diff(w) == 0 and mc.w_fmr(w) == 0
+    w = [0, 380, 570, 380, 570, 380]  # a lifted wheel: its load moves to the others
+    assert mc.w_diff(w) == 570
+    assert mc.w_fmr(w) == pytest.approx(np.mean(w))
+    r10, r11 = mc.load_ratios(w, SC)
+    assert r10 == pytest.approx(570 / 1300) and r11 == pytest.approx(np.mean(w) / 700)
+    assert mc.eta_change(0.03, 0.02, 0.005) == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="valid: WRM"):
+        mc.thresholds("WALK")
+
+
+def test_qp_passes_a_feasible_command_and_saturates_a_jump():
+    ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
+    st = IKState(np.array([0.1, 0.1]), np.array([0.02, 0.0, 0.0, 0.0, 0.0]))
+    u = ik.solve(np.array([0.021, 0.0, 0.0, 0.0, 0.0]), st, mc.thresholds("RCLM"))
+    assert np.allclose(u, [0.021, 0, 0, 0, 0], atol=1e-9)
+    u = ik.solve(np.array([0.05, 0.0, 0.0, 0.0, 0.0]), st, mc.thresholds("RCLM"))  # MC#7 kappa 0.3
+    assert u[0] == pytest.approx(0.02 * 1.3, abs=1e-8)
+    G, h, lb, ub = build_qp(CFG, st, mc.thresholds("RCLM"), SC, IKLimits(), 0.01)
+    assert G.shape == (16, 5) and np.all(G @ u <= h + 1e-9)
+
+
+def test_qp_mc3_blocks_further_closing_past_its_threshold():
+    ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
+    st = IKState(np.array([0.95, 0.95]), np.zeros(5))  # wheelbase reduced beyond kappa 0.45
+    u = ik.solve(np.array([0.0, 0.0, 0.0, 0.05, 0.05]), st, mc.thresholds("RCLM"))
+    assert u is None or np.all(u[3:] <= 1e-9)
+
+
+def test_qp_infeasible_is_none():
+    lim = IKLimits(delta_range=(0.0, 0.1))
+    ik = SaturatedIK(CFG, lim, SC, 0.01)
+    st = IKState(np.array([0.5, 0.5]), np.zeros(5))  # outside the rocker range: no step back fits
+    assert ik.solve(np.zeros(5), st, mc.thresholds("RCLM")) is None
+
+
+def test_qp_solve_time():
+    ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
+    st = IKState(np.array([0.2, 0.2]), np.array([0.015, 0, 0.0, 0.0, 0.0]))
+    for _ in range(300):
+        ik.solve(np.array([0.05, 0.0, 0.02, 0.03, 0.03]), st, mc.thresholds("RCLM"))
+    t = ik.timing()
+    assert t["qp_n"] == 300
+    assert t["qp_median_us"] < 500  # target 100 us; loose bound for a loaded 2-core machine
+
+
+def test_metrics_on_synthetic_series():
+    v = np.full(100, 0.015)
+    vc = np.full(100, 0.025)
+    assert mt.body_slip(v, vc) == pytest.approx(0.4)
+    assert np.isnan(mt.body_slip(v, np.zeros(100)))
+    assert mt.drawbar_coefficient([100, 50], [400, 400]) == pytest.approx(150 / 800)
+    assert mt.traction_efficiency([200.0], [0.02], [8.0]) == pytest.approx(0.5)
+    assert mt.energy(np.full(10, 50.0), 0.1) == pytest.approx(50.0)
+    assert mt.path_length([0, 3], [0, 4]) == pytest.approx(5.0)
+    wd, wf = mt.load_figures(np.array([[380] * 6, [0, 456, 456, 456, 456, 456]]))
+    assert wd.tolist() == [0, 456] and wf[1] == pytest.approx(380)
+
+
+def test_soil_fit_constants_reproduce_the_t1_targets():
+    """The fitted soils give the T1 zero-pull slips they were fitted to (fails if the soil model changes)."""
+    from terrabench.systems.srwmr.soils import LOOSE, TARGETS, VERY_LOOSE, zero_pull_slip
+
+    assert zero_pull_slip(VERY_LOOSE) == pytest.approx(TARGETS["very_loose"], abs=0.02)
+    assert zero_pull_slip(LOOSE) == pytest.approx(TARGETS["loose"], abs=0.02)

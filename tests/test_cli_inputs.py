@@ -210,3 +210,13 @@ def test_parse_errors_show_the_value(monkeypatch, capsys, args, needles):
 def test_a_bad_mujoco_gl_is_one_line_for_every_command(monkeypatch, capsys):
     code, text = _main(monkeypatch, capsys, "list", env={"MUJOCO_GL": "bogus"})
     assert code == 2 and "MUJOCO_GL='bogus'" in text and len(text.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("sid", SYSTEMS)
+def test_methods_all_means_every_method_for_every_system(sid):
+    """`--methods all` (what `run --help` promises) plans trials for every system."""
+    sysobj = catalog.system(sid)
+    specs = sysobj.plan(methods=["all"], seeds=1)
+    assert specs
+    with pytest.raises(ValueError, match="nope"):
+        sysobj.plan(methods=["nope"], seeds=1)

@@ -137,10 +137,12 @@ def plan_specs(*, methods: Sequence[str] | None = None, instances: Sequence[str]
     for g in groups:
         if g not in SCENARIOS:
             raise ValueError(f"unknown beams group {g!r}; valid: {', '.join(GROUPS)}, all")
+    if methods and list(methods) == ["all"]:  # as for every system: 'all' = every method
+        methods = None
     if methods:
         bad = [m for m in methods if m not in METHODS]
         if bad:
-            raise ValueError(f"unknown beams method(s) {bad}; valid: {', '.join(METHODS)}")
+            raise ValueError(f"unknown beams method(s) {bad}; valid: {', '.join(METHODS)}, all")
     if instances:
         known = {i for g in GROUPS for i in INSTANCES[g]} | {"stiff", "flimsy"}
         bad = [i for i in instances if i not in known]

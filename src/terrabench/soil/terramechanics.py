@@ -55,7 +55,11 @@ class SoilParams:
         n1: slip-sinkage coefficient when driving, ``n(s) = n + n1 s`` for s >= 0 (Ding et al.
             2011), in [-1, 2]; ``n + n1 > 0``.
         n2: the same in skid, ``n(s) = n + n2 |s|`` for s < 0 (robomechanics 3d-terramechanics),
-            in [-1, 2]; ``n + n2 > 0``.
+            in [-1, 2]; ``n + n2 > 0``. With lateral motion the exponent is
+            ``n + n1 s_drive + n2 s_slide``: ``s_drive = max(r omega - v_x, 0) / u`` (the rim
+            outrunning the hub along the heading), ``s_slide = |(max(v_x - r omega, 0), v_y)| / u``
+            (the soil sliding past a rim that does not carry it), ``u = max(r omega, |v|)``; both
+            reduce to the forms above when v_y = 0.
         k_c: cohesive modulus (Bekker N/m^(n+1), Reece -), >= 0.
         k_phi: frictional modulus (Bekker N/m^(n+2), Reece -), > 0.
         c: cohesion (Pa), >= 0.
@@ -241,7 +245,12 @@ def _point(z, s, C, P, gx, gw):
     A = 1.0 if s >= 0 else 1.0 + s
     B = 1.0 - s if s >= 0 else 1.0
     se = _slip_total(s, C)
-    n = P[4] + P[5] * se if se >= 0 else P[4] - P[6] * se
+    # exponent from the two ways a wheel excavates: the rim outrunning the hub along the heading
+    # (driving part) and the soil sliding past a rim that does not carry it (skid and sideways)
+    vh = max(A, math.sqrt(B * B + C * C))
+    s_drive = max(A - B, 0.0) / vh
+    s_slide = math.sqrt(max(B - A, 0.0) ** 2 + C * C) / vh
+    n = P[4] + P[5] * s_drive + P[6] * s_slide
     c, tphi, K, Ky, gam, bd1, d2 = P[7], P[8], P[9], P[10], P[16], P[17], P[18]
     th1, thm, thr = _angles(z, se, P)
     c1, s1 = math.cos(th1), math.sin(th1)

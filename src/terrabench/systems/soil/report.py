@@ -24,11 +24,12 @@ WHY = {
     "DP_all": "skid and the locked wheel: the braked-wheel resistance (front ploughing of the rut) sets it; at slip "
               "angles >= 60 deg the wheel is buried past its axle in the data",
     "lateral": "the lateral force at large slip angles is mostly sidewall bulldozing, which grows with the square of "
-               "the sinkage, and the model sinks far less than measured there",
+               "the sinkage and whose mobilisation the slip-angle-0 trials cannot fix: unscaled Hegedus pressure "
+               "over-predicts it at 30-60 deg, and at 75-90 deg the measured sinkage passes the wheel radius",
     "sinkage": "at slip angles >= 60 deg the measured sinkage (42-77 mm) reaches or exceeds the wheel radius (58 mm): "
                "the wheel digs a trench sideways, a mechanism (lateral excavation) the model does not have",
-    "DP_drive": "driving at large slip angles: the force along the heading comes from the rim dragging the soil it "
-                "has dug; with too little sinkage the model underestimates it",
+    "DP_drive": "driving at 75-90 deg slip angle: the force along the heading comes from the rim dragging the soil "
+                "of the trench it digs sideways, past the wheel's axle, which the model cannot hold",
 }
 
 

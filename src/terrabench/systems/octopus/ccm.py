@@ -87,7 +87,8 @@ class CCMConfig:
     back_time: float = param(3.0, ge=0, unit="s", doc="a stall backs off this long, then approaches again")
     retries: int = param(2, ge=0, doc="back-offs before the controller keeps pushing to the end")
     retry_pitch: float = param(0.3, ge=0, unit="rad", doc="extra press pitch per retry")
-    heading_gain: float = param(0.2, ge=0, unit="m/s/rad", doc="crawler speed difference per rad of heading error (0: no heading hold)")
+    heading_gain: float = param(0.2, ge=0, unit="m/s/rad",
+                                doc="crawler speed difference per rad of heading error (0: no heading hold)")
     heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
     d_flip: float = param(0.03, gt=0, unit="rad/tick", doc="flipper step toward a target per tick")
     stowed_arm: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=-math.pi, le=math.pi, unit="rad",

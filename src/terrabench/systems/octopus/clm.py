@@ -113,9 +113,11 @@ class CLMConfig:
     settle_ticks: int = param(5, ge=1, doc="ticks of settling before a landed tip is a support")
     stall_dz: float = param(0.04, gt=0, unit="m", doc="a lowering tip this far above its target has landed")
     tilt_contact: float = param(0.01, gt=0, unit="rad", doc="body tilt while an arm lowers that means its tip landed")
-    heading_gain: float = param(0.2, ge=0, unit="m/s/rad", doc="crawler speed difference per rad of heading error (0: no heading hold)")
+    heading_gain: float = param(0.2, ge=0, unit="m/s/rad",
+                                doc="crawler speed difference per rad of heading error (0: no heading hold)")
     heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
-    phase_timeout: float = param(3.0, gt=0, unit="s", doc="a transfer's lift or swing phase unfinished this long moves on")
+    phase_timeout: float = param(3.0, gt=0, unit="s",
+                                 doc="a transfer's lift or swing phase unfinished this long moves on")
     release_d_e: float = param(0.005, gt=0, unit="rad/tick", doc="boom step of the release")
     release_d_f: float = param(0.01, gt=0, unit="rad/tick", doc="flipper step of the release")
     release_tilt: float = param(0.08, gt=0, unit="rad", doc="nose rise while releasing that resumes the climb")
@@ -424,7 +426,8 @@ class CLMController:
             # obstacle) goes on to the next phase from where the arm is
             self.phase_t[i] = self.phase_t[i] + self.dt if new_ph == ph else 0.0
             if self.phase_t[i] > cfg.phase_timeout:
-                self._arm_event(obs.t, k, TRANSFER, TRANSFER, f"phase {ph} blocked for {cfg.phase_timeout:g} s: next phase")
+                self._arm_event(obs.t, k, TRANSFER, TRANSFER,
+                                f"phase {ph} blocked for {cfg.phase_timeout:g} s: next phase")
                 new_ph, self.phase_t[i] = ph + 1, 0.0
                 if ph == 2:
                     c[0] = q[0]

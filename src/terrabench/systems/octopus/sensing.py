@@ -1,8 +1,9 @@
 """The sensing boundary: what a controller of the OCTOPUS robot may read (50 Hz).
 
-IMU roll and pitch and the yaw rate from its gyro (no yaw angle, no position), the encoders of the flipper and arm joints, the
-flipper joint torques and the elbow torques. Nothing about the terrain, no contacts: the paper's
-"the control system knows nothing about the terrain in advance".
+IMU roll and pitch and the yaw rate from its gyro (no yaw angle, no position), the encoders
+of the flipper and arm joints, the flipper joint torques and the elbow torques. Nothing about
+the terrain, no contacts: the paper's "the control system knows nothing about the terrain in
+advance".
 """
 
 from __future__ import annotations

@@ -220,3 +220,64 @@ def test_methods_all_means_every_method_for_every_system(sid):
     assert specs
     with pytest.raises(ValueError, match="nope"):
         sysobj.plan(methods=["nope"], seeds=1)
+
+
+#: bad inputs found beyond the issue's examples (one line naming the value, exit 2, no store each)
+BAD_INPUTS = [
+    ("run mrs-cwc --terrains A-01 --set chain.spacing=-0.3", "'chain.spacing' = -0.3"),
+    ("run mrs-cwc --terrains A-01 --set physics.timestep=1e-9x", "'1e-9x'"),
+    ("run mrs-cwc --terrains A-01 --set physics.integrator=verlet", "'verlet'"),
+    ("run mrs-cwc --terrains A-01 --set chain.drive_solimp=[0.9,0.9]", "has 2 entries"),
+    ("run mrs-cwc --terrains A-01 --set protocol.start_xy=[0]", "has 1 entries"),
+    ("run mrs-cwc --terrains A-01 --set protocol.control_period=0.0123", "whole number of physics steps"),
+    ("run mrs-cwc --terrains A-01 --set stiffness.window=0", "'stiffness.window' = 0"),
+    ("run mrs-cwc --terrains A-01 --set head_following.delay_steps=0", "'head_following.delay_steps' = 0"),
+    ("run mrs-cwc --terrains A-01 --set planner.max_slope_deg=95", "(0, 90]"),
+    ("run mrs-cwc --terrains A-01 --set chain.k_pitch=true", "'chain.k_pitch'"),
+    ("run mrs-cwc --terrains A-01 --set waypoint_source=magic", "'magic'"),
+    ("run mrs-cwc --terrains A-01 --timeout nan", "nan"),
+    ("run octopus --terrains step-400 --set robot.chassis_mass=0", "'robot.chassis_mass' = 0.0"),
+    ("run octopus --terrains step-400 --set scene.friction=-0.1", "'scene.friction' = -0.1"),
+    ("run octopus --terrains step-400 --set protocol.turn_over=4", "(0, pi]"),
+    ("run octopus --terrains step-400 --set clm.settle_ticks=0", "'clm.settle_ticks' = 0"),
+    ("run octopus --terrains step-400 --set ccm.retries=-1", "'ccm.retries' = -1"),
+    ("run octopus --terrains step-400 --set robot.flipper_range=[1]", "has 1 entries"),
+    ("run soil --terrains mars_soft/W100/s0.2 --set rig.omega=0", "'rig.omega' = 0.0"),
+    ("run soil --terrains mars_soft/W100/s0.2 --set rig.timestep=0", "'rig.timestep' = 0.0"),
+    ("run soil --terrains mars_soft/W100/s0.2 --set custom_soil.phi_deg=95", "(0, 90)"),
+    ("run soil --terrains mars_soft/W100/s0.2 --set custom_soil.a1=0.9", "0 <= a0 + a1 <= 1"),
+    ("run beams --group traversal --set robot.mass=0", "'robot.mass' = 0.0"),
+    ("run beams --group traversal --set sensing.sigma=-0.1", "'sensing.sigma' = -0.1"),
+    ("run beams --group traversal --set estimator.n_unknowns=5", "valid: 4, 3, 2"),
+    ("run beams --group traversal --set landscape.x_max=-1", "x_min"),
+    ("run beams --group traversal --set physics.damping=[1,2]", "has 2 entries"),
+    ("run beams --group traversal --set protocol.roll_deg=120", "[-90, 90]"),
+    ("run beams --methods estimate-4 --group traversal", "interact, avoid"),
+    ("perf mrs-cwc --set chain.n_units=1", "'chain.n_units' = 1"),
+    ("render mrs-cwc --terrain A-01 --set chain.wheel_mass=0", "'chain.wheel_mass' = 0.0"),
+]
+
+
+@pytest.mark.parametrize("command, needle", BAD_INPUTS, ids=[c for c, _ in BAD_INPUTS])
+def test_bad_inputs_found_beyond_the_issue(tmp_path, command, needle):
+    import shlex
+
+    store = tmp_path / "r.duckdb"
+    args = shlex.split(command)
+    if args[0] == "run":
+        args += ["--store", str(store)]
+    one_error_line(invoke(*args), needle)
+    assert not store.exists()
+
+
+@pytest.mark.parametrize("args, needles", [
+    (["run", "mrs-cwc", "--quiet=maybe"], ["'--quiet' does not take a value"]),
+    (["run"], ["Missing argument 'system'", "terrabench run --help"]),
+    (["run", "mrs-cwc", "--bogus"], ["--bogus"]),
+])
+def test_usage_errors_are_one_line(monkeypatch, capsys, args, needles):
+    code, text = _main(monkeypatch, capsys, *args)
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("error:"), text
+    for n in needles:
+        assert n in lines[0]

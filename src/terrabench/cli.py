@@ -475,9 +475,9 @@ def main() -> None:
         rc = app(args=args, standalone_mode=False)
     except cex.BadParameter as exc:
         if isinstance(exc, cex.MissingParameter):
-            from typer import rich_utils
-
-            rich_utils.rich_format_error(exc)
+            cmd = exc.ctx.command_path if exc.ctx is not None else "terrabench"
+            err_console.print(f"[bold red]error:[/] {rich_escape(exc.format_message())} (see `{cmd} --help`)",
+                              highlight=False, soft_wrap=True)
             sys.exit(exc.exit_code)
         name = exc.param.opts[0] if exc.param is not None and exc.param.opts else (exc.param_hint or "a value")
         raw = _raw_value(exc.param, args)
@@ -485,10 +485,15 @@ def main() -> None:
         err_console.print(f"[bold red]error:[/] {rich_escape(f'{shown}: {exc.message}')}", highlight=False,
                           soft_wrap=True)
         sys.exit(2)
-    except cex.ClickException as exc:
+    except cex.NoArgsIsHelpError as exc:  # bare `terrabench` / `terrabench terrain`: the help
         from typer import rich_utils
 
         rich_utils.rich_format_error(exc)
+        sys.exit(exc.exit_code)
+    except cex.ClickException as exc:  # a usage error (unknown option, missing argument): one line
+        cmd = exc.ctx.command_path if getattr(exc, "ctx", None) is not None else "terrabench"
+        err_console.print(f"[bold red]error:[/] {rich_escape(exc.format_message())} (see `{cmd} --help`)",
+                          highlight=False, soft_wrap=True)
         sys.exit(exc.exit_code)
     except typer.Abort:
         err_console.print("Aborted!")

@@ -92,6 +92,9 @@ class Param:
 
 
 def _num(x: float) -> str:
+    for k, name in ((1, "pi"), (0.5, "pi/2")):  # angle bounds read as what they are
+        if abs(abs(x) - k * math.pi) < 1e-12:
+            return ("-" if x < 0 else "") + name
     return repr(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)
 
 

@@ -222,6 +222,8 @@ class TerrabenchEnv(gymnasium.Env):
         """``action`` as the system's float64 action, clipped to its space, and how many entries
         were clipped; ValueError for a wrong shape or a non-finite entry (naming the entries)."""
         try:
+            if np.iscomplexobj(action):
+                raise TypeError("complex")
             a = np.array(action, dtype=np.float64)
         except (TypeError, ValueError):
             raise ValueError(f"action must be an array of numbers of shape {self.action_space.shape}, "

@@ -139,6 +139,8 @@ def list_cmd(
     for r in reg.entries("system"):
         for env_id in get_system(r.id).env_ids:
             console.print(f"  {env_id:<28} {r.id}", highlight=False)
+    console.print("more: `terrabench list SYSTEM` (groups, sizes, instance ids), `terrabench config SYSTEM` "
+                  "(--set keys and ranges), `terrabench list --statuses`", highlight=False)
     for err in load_failures().values():
         raise err
 

@@ -20,6 +20,7 @@ key, the bad value and what is valid (:class:`ConfigError`, a ``ValueError``).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import typing
 from collections.abc import Iterator, Mapping
@@ -147,34 +148,38 @@ def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
     """ConfigError naming ``key`` unless ``value`` satisfies ``spec`` (``default`` gives the kind)."""
     if value is None and default is None:  # an optional field (``float | None = None``) left unset
         return
-    valid = spec.describe(default)
-    if default is None:
-        valid += ", or null"
+
+    def fail(problem: str) -> ConfigError:  # the message is built only for a bad value
+        valid = spec.describe(default) + (", or null" if default is None else "")
+        return ConfigError(key, value, valid, problem=problem)
+
     if spec.choices is not None:
         if not any(value == c and isinstance(value, bool) == isinstance(c, bool) for c in spec.choices):
             raise ConfigError(key, value, ", ".join(str(c) for c in spec.choices), problem="is unknown")
         return
     if isinstance(value, (tuple, list)):
         if spec.length is not None and len(value) != spec.length:
-            raise ConfigError(key, value, valid, problem=f"has {len(value)} entries")
+            raise fail(f"has {len(value)} entries")
         items = list(_flatten(value))
     else:
         if spec.length is not None:
-            raise ConfigError(key, value, valid, problem="is not a list")
+            raise fail("is not a list")
         items = [value]
-    kind = default if default is not None else value
-    numeric = _is_number(kind) or (isinstance(kind, (tuple, list)) and bool(kind) and
-                                   all(_is_number(x) for x in _flatten(kind)))
+    numeric = None
     for v in items:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
+            if numeric is None:
+                kind = default if default is not None else value
+                numeric = _is_number(kind) or (isinstance(kind, (tuple, list)) and bool(kind) and
+                                               all(_is_number(x) for x in _flatten(kind)))
             if numeric or spec.has_range:
-                raise ConfigError(key, value, valid, problem="is not a number")
+                raise fail("is not a number")
             continue
         if not math.isfinite(v):
-            raise ConfigError(key, value, valid, problem="is not finite")
+            raise fail("is not finite")
         if (spec.ge is not None and not v >= spec.ge) or (spec.gt is not None and not v > spec.gt) or \
                 (spec.le is not None and not v <= spec.le) or (spec.lt is not None and not v < spec.lt):
-            raise ConfigError(key, value, valid, problem="is out of range")
+            raise fail("is out of range")
 
 
 def _flatten(v: Any) -> Iterator[Any]:
@@ -190,10 +195,14 @@ def check_fields(obj: Any) -> None:
 
     The error names the field; :func:`override` / :func:`from_dict` put the section path in front.
     """
-    for f in dataclasses.fields(obj):
-        spec = spec_of(f)
-        if spec is not None:
-            check_value(f.name, getattr(obj, f.name), spec, _default(f))
+    for name, spec, default in _declared(type(obj)):
+        check_value(name, getattr(obj, name), spec, default)
+
+
+@functools.cache
+def _declared(cls: type) -> tuple[tuple[str, Param, Any], ...]:
+    """(name, spec, default) of every field of ``cls`` declared with :func:`param` (cached)."""
+    return tuple((f.name, spec_of(f), _default(f)) for f in dataclasses.fields(cls) if spec_of(f) is not None)
 
 
 def validate(cfg: Any, prefix: str = "") -> Any:

@@ -139,6 +139,7 @@ def _timed(m, d, hook, n):
     return time.process_time() - t0
 
 
+@pytest.mark.slow  # a timing ratio (10x margin): kept out of the default suite, as every timed check
 def test_soil_every_step_costs_at_most_twice_a_rigid_step(table):
     # Issue 18: soil forces every physics step (every=1) for six wheels on a height field cost
     # <= 2x a rigid-contact step. Both rovers alternate, fastest of 5 rounds in CPU time.

@@ -99,8 +99,9 @@ def system_tables(sysobj: Any) -> list[Any]:
         g.add_row(gid + default, str(len(ids)), examples(ids), shown, text)
     g.add_row("all", str(len(all_ids)), "", "", "every instance")
     out.append(g)
-    fmt = getattr(sysobj, "instance_format", "") or id_pattern(all_ids)
-    out.append(f"instance ids (--terrains): {fmt}; e.g. {examples(all_ids)}")
+    fmt = getattr(sysobj, "instance_format", "")
+    out.append(f"instance ids (--terrains): {fmt}" if fmt else
+               f"instance ids (--terrains): {id_pattern(all_ids)}; e.g. {examples(all_ids)}")
     extra = []
     if sysobj.timeout_key:
         extra.append(f"--timeout sets {sysobj.timeout_key}")

@@ -152,6 +152,8 @@ class System:
         headline_metrics: metric names shown per trial by the CLI.
         env_ids: Gymnasium ids registered for this system (``terrabench list`` shows them).
         perf_instances: instances ``terrabench perf`` times by default.
+        instance_format: one line on how instance ids are spelt (``terrabench list SYSTEM``);
+            '' = shown as the ids' shapes with digits as N.
         smoke: keyword arguments of :meth:`plan` for a request that runs in seconds (the
             contract test in ``tests/test_contract.py`` runs it for every registered system).
     """
@@ -166,6 +168,7 @@ class System:
     headline_metrics: ClassVar[tuple[str, ...]] = ()
     env_ids: ClassVar[tuple[str, ...]] = ()
     perf_instances: ClassVar[tuple[str, ...]] = ()
+    instance_format: ClassVar[str] = ""
     smoke: ClassVar[Mapping[str, Any]] = {}
 
     # ------------------------------------------------------------------ scenarios (override)

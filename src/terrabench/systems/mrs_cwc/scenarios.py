@@ -25,6 +25,7 @@ class MRSCWCSystem(System):
     id = "mrs-cwc"
     summary = "MRS-CWC robot chain on 100 rough terrains (Xiao et al.)"
     config_cls = MRSConfig
+    instance_format = "A-01 ... A-50 (group A), B-01 ... B-50 (group B): the released terrain rows"
     groups = {"A": "the released lessthan30 file, rows 1-50 (mean axis slope 0.3-29.0 deg)",
               "B": "the released morethan30 file, rows 1-50 (the paper's 'over 30 deg' group; "
                    "mean axis slope 29.3-44.1 deg)"}

@@ -116,6 +116,8 @@ class SoilSystem(System):
     id = "soil"
     summary = "Single rigid wheel on loose soil (Bekker / Wong-Reece / Janosi): slip and load sweeps"
     config_cls = SoilTestbedConfig
+    instance_format = ("single-wheel: SOIL/W<load N>/s<slip> (a preset or custom; any load > 0, slip in [-1, 1]), "
+                       "e.g. mars_soft/W100/s0.2; cmu-smooth: cmu/b<slip angle deg>/t<trial>, e.g. cmu/b30/t012")
     groups = {"single-wheel": f"{len(SOILS)} soils x loads {LOADS} N x slips {SLIPS[0]}..{SLIPS[-1]}",
               "cmu-smooth": "the 189 measured CMU smooth-wheel trials (slip -1..0.9, slip angle 0-90 deg) "
                             "beside the model"}

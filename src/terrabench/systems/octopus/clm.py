@@ -58,7 +58,8 @@ class CLMConfig:
             stands for the operator's move direction; crawler speeds differ by gain x heading
             (m/s per rad), at most heading_dv (m/s).
         phase_timeout: a transfer's lift or swing phase that has not finished in this long moves on
-            to the next phase from where the arm is (s).
+            to the next phase from where the arm is (s); a blocked swing first lifts the arm
+            ``extra_lift`` rad higher (boom) and swings again, until the arm lands where it was sent.
         release_d_e, release_d_f: boom and flipper steps of the release (rad/tick): quasi-static
             (0.25 and 0.5 rad/s), where eqs. 28-29's dE and dF would drop the body in 0.7 s.
         release_tilt: the nose rising this much while releasing means the COG is not over the
@@ -116,6 +117,7 @@ class CLMConfig:
     heading_gain: float = param(0.2, ge=0, unit="m/s/rad",
                                 doc="crawler speed difference per rad of heading error (0: no heading hold)")
     heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
+    extra_lift: float = param(0.5, ge=0, unit="rad", doc="extra boom lift after a blocked swing")
     phase_timeout: float = param(3.0, gt=0, unit="s",
                                  doc="a transfer's lift or swing phase unfinished this long moves on")
     release_d_e: float = param(0.005, gt=0, unit="rad/tick", doc="boom step of the release")
@@ -327,6 +329,7 @@ class CLMController:
         self.tip_z = self.prev_tip_z = np.zeros(4)
         self.low_z = np.zeros(4)
         self.phase_t = np.zeros(4)  # time in the current lift/swing phase (s)
+        self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = np.zeros(4, bool)  # landed, pressing, not yet settled
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
@@ -421,16 +424,25 @@ class CLMController:
             new_ph = 4 if self.low_z[i] < tz - cfg.pit_depth else 3
             c = ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
         else:
-            new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, cfg.arm_ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
-            # arm stop case 1 in time: a lift or swing the arm cannot finish (a link held by an
-            # obstacle) goes on to the next phase from where the arm is
+            ab = max(cfg.arm_ab - self.extra_lift[i], self.robot.boom_range[0] + 0.05)
+            new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
+            # arm stop case 1 in time: a swing the arm cannot finish (a link against an obstacle)
+            # lifts the arm higher and swings again, once; a lift or a second blocked swing goes on
+            # to the next phase from where the arm is
             self.phase_t[i] = self.phase_t[i] + self.dt if new_ph == ph else 0.0
             if self.phase_t[i] > cfg.phase_timeout:
-                self._arm_event(obs.t, k, TRANSFER, TRANSFER,
-                                f"phase {ph} blocked for {cfg.phase_timeout:g} s: next phase")
-                new_ph, self.phase_t[i] = ph + 1, 0.0
-                if ph == 2:
-                    c[0] = q[0]
+                self.phase_t[i] = 0.0
+                if ph == 2 and self.extra_lift[i] < cfg.extra_lift:
+                    self.extra_lift[i] = cfg.extra_lift
+                    new_ph = 1
+                    self._arm_event(obs.t, k, TRANSFER, TRANSFER,
+                                    f"swing blocked for {cfg.phase_timeout:g} s: lift {cfg.extra_lift:g} rad higher")
+                else:
+                    new_ph = ph + 1
+                    self._arm_event(obs.t, k, TRANSFER, TRANSFER,
+                                    f"phase {ph} blocked for {cfg.phase_timeout:g} s: next phase")
+                    if ph == 2:
+                        c[0] = q[0]
         if ph == 2 and new_ph == 3:
             self.tau_ref[i] = obs.tau_elbow[i]
             self.t3[i] = 0.0
@@ -472,6 +484,8 @@ class CLMController:
         self.tau_ref[i] = obs.tau_elbow[i]
         case = arm_stop_case(self.tip_r[i], self.targets[k], cfg.d_c, cfg.d_d)
         self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
+        if case == "reached":
+            self.extra_lift[i] = 0.0
         self.pause_until = obs.t + cfg.gait_pause
 
     def _support(self, obs, v: float) -> bool:

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from terrabench.systems.soil.scenarios import CMU_METHODS, RIG_METHODS, parse_instance
+from terrabench.systems.soil.instances import CMU_METHODS, RIG_METHODS, parse_instance
 
 SOURCE = {"rig": "mujoco", "analytic": "analytic"}
 ORDER = list(RIG_METHODS + CMU_METHODS)
@@ -187,13 +187,11 @@ def _sweep_figure(srows: list[dict[str, Any]], name: str):
     return fig
 
 
-def write_report(store, out_dir: Path, system: Any = None) -> Path:
+def write_report(store, out_dir: Path, system: Any) -> Path:
     from terrabench.report.page import Page, cell, provenance_html
     from terrabench.report.variants import Defaults, find_variants, tag_rows
     from terrabench.systems.soil.cmu import FIT_BETAS, fitted
 
-    if system is None:
-        from terrabench.systems.soil.scenarios import SYSTEM as system
     rows = [r for r in store.rows(system="soil") if r["status"] == "done"]
     if not rows:
         raise ValueError("the store has no finished soil trials; run `terrabench run soil --group cmu-smooth` "

@@ -42,24 +42,27 @@ class Observation:
         adr = lambda name: int(model.sensor_adr[model.sensor(name).id])  # noqa: E731
         self._quat = adr(Names.IMU)
         self._gyro = adr(Names.GYRO)
-        self._q = np.array([adr(Names.pos_sensor(j)) for j in actuated_joints()])
-        self._tau = np.array([adr(Names.torque_sensor(j)) for j in torque_joints()])
+        q = np.array([adr(Names.pos_sensor(j)) for j in actuated_joints()])
+        tau = np.array([adr(Names.torque_sensor(j)) for j in torque_joints()])
+        # contiguous addresses (the builder adds the sensors in this order) read as slices
+        self._q = slice(int(q[0]), int(q[-1]) + 1) if (np.diff(q) == 1).all() else q
+        self._tau = slice(int(tau[0]), int(tau[-1]) + 1) if (np.diff(tau) == 1).all() else tau
         self.refresh()
 
     def refresh(self) -> "Observation":
         s = self._d.sensordata
         self.t = float(self._d.time)
-        self.roll, self.pitch = roll_pitch(s[self._quat: self._quat + 4])
+        a = self._quat
+        self.roll, self.pitch = roll_pitch(s[a: a + 4].tolist())
         g = self._gyro
+        wy, wz = float(s[g + 1]), float(s[g + 2])
         # Z-Y-X Euler rate of the heading from body rates: (wy sin(roll) + wz cos(roll)) / cos(pitch)
-        self.yaw_rate = ((float(s[g + 1]) * math.sin(self.roll) + float(s[g + 2]) * math.cos(self.roll))
-                         / max(math.cos(self.pitch), 1e-3))
-        q = s[self._q]
-        self.q_flip = q[:4].copy()
-        self.q_arm = q[4:].reshape(4, 3).copy()
-        tau = s[self._tau]
-        self.tau_flip = tau[:4].copy()
-        self.tau_elbow = tau[4:].copy()
+        self.yaw_rate = (wy * math.sin(self.roll) + wz * math.cos(self.roll)) / max(math.cos(self.pitch), 1e-3)
+        # one copy per group, the fields are views of it (fresh arrays every tick)
+        q = s[self._q].copy()
+        self.q_flip, self.q_arm = q[:4], q[4:].reshape(4, 3)
+        tau = s[self._tau].copy()
+        self.tau_flip, self.tau_elbow = tau[:4], tau[4:]
         return self
 
 

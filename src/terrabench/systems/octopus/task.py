@@ -172,6 +172,7 @@ class OctopusTask(TaskBase):
         w = np.array([rc.joint_speed[0]] * 4 + list(rc.joint_speed[1:]) * 4)
         self._dq = w * pr.control_period
         self._ctrl = data.ctrl[self.act].copy()
+        self._ctrl_view = data.ctrl if np.array_equal(self.act, np.arange(model.nu)) else None
         self._side_of = np.full(model.ngeom, -1)
         self._side_of[self.surf_id] = self.surf_side
         self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
@@ -242,9 +243,13 @@ class OctopusTask(TaskBase):
         c[:4] = cmd.flip
         c[4:] = cmd.arm.ravel()
         # joint speed limits: the servo reference moves at most joint_speed x period a tick
-        prev = self.data.ctrl[self.act]
-        np.clip(c, prev - self._dq, prev + self._dq, out=c)
-        self.data.ctrl[self.act] = c
+        ctrl = self._ctrl_view
+        if ctrl is None:
+            prev = self.data.ctrl[self.act]
+            np.clip(c, prev - self._dq, prev + self._dq, out=c)
+            self.data.ctrl[self.act] = c
+        else:  # actuators 0..15 in order: clip in place
+            np.clip(c, ctrl - self._dq, ctrl + self._dq, out=ctrl)
 
     def margin(self) -> float:
         """Static stability margin (m) over every current ground contact (evaluation only)."""
@@ -273,10 +278,10 @@ class OctopusTask(TaskBase):
         within QS_LOAD of the weight (no impact, no fling). The traction force of each side is
         kept for the crawler power limit.
         """
-        m, d = self.model, self.data
+        d = self.data
         n, t = d.ncon, float(d.time)
         nan = float("nan")
-        gr, f6 = self.ground, self._f6
+        gr = self.ground
         geom = d.contact.geom[:n]
         sel = np.nonzero(gr[geom[:, 0]] ^ gr[geom[:, 1]])[0]
         if not len(sel):
@@ -284,10 +289,7 @@ class OctopusTask(TaskBase):
             return nan, nan, 0.0, nan, 0.0
         g1, g2 = geom[sel, 0], geom[sel, 1]
         rg = np.where(gr[g1], g2, g1)  # the robot's geom of each robot-ground contact
-        f = np.empty((len(sel), 3))
-        for a, j in enumerate(sel.tolist()):
-            mujoco.mj_contactForce(m, d, j, f6)
-            f[a] = f6[:3]
+        f = self._contact_forces(sel)
         fn = f[:, 0]
         total = float(fn.sum())
         self._loaded_t[rg[fn > SUPPORT_LOAD]] = t
@@ -313,6 +315,26 @@ class OctopusTask(TaskBase):
             m_load, m_all = nan, stability_margin(pts, cog)
         share = float(fn[on].sum()) / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
+
+    def _contact_forces(self, sel: np.ndarray) -> np.ndarray:
+        """(k, 3) contact-frame forces (normal, two tangential) of the contacts ``sel`` (N).
+
+        Pyramidal cones of dimension 3 (this model's): the normal force is the sum of the four
+        pyramid-edge forces, a tangential one mu x (f+ - f-), read from ``efc_force`` in one
+        pass (equal to ``mj_contactForce``); other contacts go through ``mj_contactForce``.
+        """
+        m, d = self.model, self.data
+        c = d.contact
+        adr, dim = c.efc_address[sel], c.dim[sel]
+        if m.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and (dim == 3).all():
+            e = np.where((adr >= 0)[:, None], d.efc_force[np.maximum(adr, 0)[:, None] + np.arange(4)], 0.0)
+            mu = c.friction[sel, :2]
+            return np.stack([e.sum(1), (e[:, 0] - e[:, 1]) * mu[:, 0], (e[:, 2] - e[:, 3]) * mu[:, 1]], axis=1)
+        f, f6 = np.empty((len(sel), 3)), self._f6
+        for a, j in enumerate(sel.tolist()):
+            mujoco.mj_contactForce(m, d, j, f6)
+            f[a] = f6[:3]
+        return f
 
     def tip_contacts(self) -> int:
         d = self.data
@@ -344,7 +366,7 @@ class OctopusTask(TaskBase):
         """Servo power |tau qdot| summed, plus the crawlers' drive power (traction force x speed,
         sampled on the stored rows and held between them)."""
         d = self.data
-        return float(np.abs(d.actuator_force * d.actuator_velocity).sum()) + self._sample[4]
+        return float(np.dot(np.abs(d.actuator_force), np.abs(d.actuator_velocity))) + self._sample[4]
 
     def metrics(self, log) -> dict[str, float]:
         """Extremes of attitude; the static margin (load-filtered polygon) at quasi-static

@@ -127,6 +127,12 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
     ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
     page.p("energy ordering, ours (least first): " + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
            + "; paper: swlm < rclm < wcm < wrm")
+    page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
+    qp = [{"task": r["instance"], "mode": r["method"], "seed": r["seed"], "solves": r["info"].get("qp_n"),
+           "median us": r["info"].get("qp_median_us"), "p99 us": r["info"].get("qp_p99_us"),
+           "active share": r["info"].get("qp_active_share")} for r in task_rows]
+    if qp:
+        page.table(qp, list(qp[0]), csv_name="qp_timing.csv")
     sl = slope_lines(rows)
     if sl:
         page.h2("Slopes: success and slip against the slope angle")

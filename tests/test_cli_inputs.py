@@ -281,3 +281,15 @@ def test_usage_errors_are_one_line(monkeypatch, capsys, args, needles):
     assert code == 2 and len(lines) == 1 and lines[0].startswith("error:"), text
     for n in needles:
         assert n in lines[0]
+
+
+def test_a_single_unit_chain_is_refused_for_spring_methods_only(tmp_path):
+    """chain.n_units = 1 builds a leader alone (MJ and D run it); the spring-linked CWC/CS laws
+    read the first yaw joint, so planning them on one unit is an error before any trial."""
+    sysobj = catalog.system("mrs-cwc")
+    for m in ("mj-tdt", "d-tdt"):
+        assert sysobj.plan(methods=[m], instances=["A-01"], overrides={"chain.n_units": 1})
+    store = tmp_path / "r.duckdb"
+    one_error_line(invoke("run", "mrs-cwc", "--terrains", "A-01", "--methods", "cwc-tdt", "--set", "chain.n_units=1",
+                          "--store", str(store)), "'chain.n_units' = 1", "cwc-tdt")
+    assert not store.exists()

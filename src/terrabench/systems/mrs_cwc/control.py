@@ -35,7 +35,7 @@ class DriveConfig:
         turn_gain: differential gain on the heading error (rad/s per rad).
     """
 
-    wheel_speed: float = param(1.5, gt=0, unit="rad/s", doc="nominal wheel speed")
+    wheel_speed: float = param(1.5, ge=0, unit="rad/s", doc="nominal wheel speed (0: a chain that does not drive)")
     turn_gain: float = param(0.6, ge=0, unit="rad/s per rad", doc="differential gain on the heading error")
 
 

@@ -98,7 +98,7 @@ class ChainConfig:
         yaw_kv: damping of the MJ yaw servo (N m s/rad).
     """
 
-    n_units: int = param(6, ge=2, doc="number of units (the leader and at least one follower)")
+    n_units: int = param(6, ge=1, doc="number of units (1: a leader alone)")
     spacing: float = param(0.30, gt=0, unit="m", doc="distance between consecutive unit centres")
     joint_offset: float = param(0.15, gt=0, unit="m", doc="joint point behind each unit centre")
     body_radius: float = param(0.05, gt=0, unit="m", doc="body capsule radius")

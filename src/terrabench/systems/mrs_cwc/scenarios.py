@@ -9,7 +9,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from terrabench.benchmark.trial import TrialSpec
-from terrabench.config import to_dict
+from terrabench.config import ConfigError, to_dict
 from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import METHODS, config_for, get_method
@@ -61,7 +61,11 @@ class MRSCWCSystem(System):
 
     def trial_config(self, method: str, instance: str, cfg: MRSConfig) -> dict[str, Any]:
         # each trial stores (and is keyed by) only the config sections its method reads
-        return config_for(get_method(method), to_dict(cfg))
+        m = get_method(method)
+        if m.variant == "spring" and cfg.chain.n_units < 2:  # checked when planned, not in the worker
+            raise ConfigError("chain.n_units", cfg.chain.n_units, f"an integer >= 2 for {method} (a spring-linked "
+                              "chain: its law reads the first yaw joint); 1 unit runs the MJ and D methods")
+        return config_for(m, to_dict(cfg))
 
     def make_task(self, spec: TrialSpec, cfg: MRSConfig) -> MRSTask:
         if spec.seed:

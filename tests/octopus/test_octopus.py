@@ -191,3 +191,17 @@ def test_gyro_heading_follows_the_true_yaw():
         xm = ep.data.xmat[task.chassis]
         worst = max(worst, abs(ctl.heading - math.atan2(xm[3], xm[0])))
     assert worst < 0.01
+
+
+def test_rough_ground_instances():
+    """The rough group: a sine-sum heightfield per seed, the robot placed above it, both methods run."""
+    assert SYSTEM.instances("rough") == ["rough-1", "rough-2", "rough-3"]
+    a = SYSTEM.make_task(TrialSpec("octopus", "x", "clm", "rough-3", 0, {}), SYSTEM.resolve_config({}))
+    b = SYSTEM.make_task(TrialSpec("octopus", "x", "clm", "rough-3", 1, {}), SYSTEM.resolve_config({}))
+    assert a.layout.kind == "rough" and a.layout.terrain != b.layout.terrain   # a terrain per seed
+    m, _ = compile_scene(a)
+    assert m.nhfield == 1
+    for method in ("clm", "ccm"):
+        spec = SYSTEM.plan(methods=[method], instances=["rough-2"], seeds=1, overrides={"protocol.timeout": 3.0})[0]
+        r = SYSTEM.run_trial(spec)
+        assert r.status == "timeout" and abs(r.metrics["max_pitch"]) < 0.5   # placed on the ground, not dropped

@@ -255,7 +255,7 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
     from terrabench.report.variants import Defaults, find_variants, tag_rows
 
     if system is None:
-        from terrabench.systems.octopus.scenarios import SYSTEM as system
+        raise ValueError("write_report needs the system (OctopusSystem.report passes itself)")
     rows = store.rows(system="octopus")
     if not rows:
         raise ValueError(f"no octopus trials in {store.path}; run `terrabench run octopus` first")

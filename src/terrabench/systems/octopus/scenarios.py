@@ -10,13 +10,15 @@ from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.octopus.ccm import CCMController
 from terrabench.systems.octopus.clm import CLMController
 from terrabench.systems.octopus.config import OctopusConfig
-from terrabench.systems.octopus.task import OctopusTask
+from terrabench.systems.octopus.task import ROUGH_LEVELS, OctopusTask
 
 SCENARIO = "octopus/steps-v1"
 SWEEP_SCENARIO = "octopus/sweep-v1"
 STEP_TASKS = ("step-400", "terrace2-front", "terrace2-side", "block-500")
 SWEEP_HEIGHTS_MM = tuple(range(100, 551, 50))
 SWEEP_TASKS = tuple(f"sweep-h{h}" for h in SWEEP_HEIGHTS_MM)
+ROUGH_SCENARIO = "octopus/rough-v1"
+ROUGH_TASKS = tuple(ROUGH_LEVELS)
 METHODS = {
     "clm": MethodInfo("clm", "compound locomotion mode: arms walk and lift, flippers crawl (Chen et al.)", ("arms",)),
     "ccm": MethodInfo("ccm", "crawler-only mode: automated flipper step climbing (Nagatani/Okada stand-in)", ("crawler",)),
@@ -30,7 +32,9 @@ class OctopusSystem(System):
     summary = "OCTOPUS four-arm four-flipper crawler climbing a 400 mm step without vision (Chen, Kamezaki et al.)"
     config_cls = OctopusConfig
     groups = {"steps": "the paper's tasks: step-400, terrace2-front, terrace2-side, block-500",
-              "sweep": "step heights 100-550 mm in 50 mm (sweep-h100 ... sweep-h550)"}
+              "sweep": "step heights 100-550 mm in 50 mm (sweep-h100 ... sweep-h550)",
+              "rough": "beyond the paper: 1.5 m over sine-sum rough ground, normalised height 0.01/0.02/0.04 "
+                       "(rough-1..3), a new terrain per seed"}
     default_group = "steps"
     timeout_key = "protocol.timeout"
     headline_metrics = ("max_pitch", "max_roll", "min_margin", "progress", "sim_time")
@@ -49,9 +53,13 @@ class OctopusSystem(System):
             return list(STEP_TASKS)
         if group == "sweep":
             return list(SWEEP_TASKS)
-        return list(STEP_TASKS) + list(SWEEP_TASKS)
+        if group == "rough":
+            return list(ROUGH_TASKS)
+        return list(STEP_TASKS) + list(SWEEP_TASKS) + list(ROUGH_TASKS)
 
     def scenario(self, method: str, instance: str) -> str:
+        if instance.startswith("rough-"):
+            return ROUGH_SCENARIO
         return SWEEP_SCENARIO if instance.startswith("sweep-") else SCENARIO
 
     def make_task(self, spec: TrialSpec, cfg: OctopusConfig) -> OctopusTask:

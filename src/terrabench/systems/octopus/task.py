@@ -35,6 +35,10 @@ SUPPORT_MEMORY = 0.5
 #: quasi-static instants: chassis speed (m/s), angular speed (rad/s) and the normal ground load
 #: within this fraction of the weight
 QS_SPEED, QS_RATE, QS_LOAD = 0.15, 0.3, 0.2
+#: rough-ground instances (beyond the paper): id -> normalised sine-sum height (heights 20 x this m)
+ROUGH_LEVELS = {"rough-1": 0.01, "rough-2": 0.02, "rough-3": 0.04}
+#: rough ground: start this far behind the origin, succeed this far past it (m): 1.5 m of travel
+ROUGH_GOAL = 0.75
 
 
 @dataclass(frozen=True)
@@ -57,6 +61,7 @@ class Layout:
     axis_yaw: float
     start: tuple[float, float]
     start_yaw: float
+    terrain: object = None  # rough ground: the sine-sum parameters (terrain.sine_sum), centred at 0
 
 
 def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
@@ -78,6 +83,15 @@ def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
         # the robot starts on the approach axis d behind the first edge, turned by yaw
         sx, sy = -d * math.cos(yaw) - off * math.sin(yaw), -d * math.sin(yaw) + off * math.cos(yaw)
         return Layout("terrace", boxes, sc.terrace_tread, top, yaw, (sx, sy), yaw + dyaw)
+    if instance in ROUGH_LEVELS:
+        # beyond the paper: rough ground from the shared sine-sum generator (MRS-CWC's family),
+        # one terrain per seed at the level's normalised height, centred on the origin
+        from terrabench.terrain import sine_sum
+
+        hgt = ROUGH_LEVELS[instance]
+        params = sine_sum.random_params(np.random.default_rng(1000 + seed), height_range=(hgt, hgt))
+        return Layout("rough", (), ROUGH_GOAL - cfg.protocol.success_past, 0.0, 0.0, (-ROUGH_GOAL, off), dyaw,
+                      params)
     if instance == "block-500":
         r = cfg.robot
         y_edge = -(r.flipper_y + r.flipper_w / 2) - sc.block_gap
@@ -101,18 +115,31 @@ class OctopusTask(TaskBase):
         # renders of step tasks look from the robot's right side, across the approach axis, so
         # the robot's front and the edge stay in view (the default view looks through the step)
         yaw = math.degrees(self.layout.axis_yaw)
-        self.camera = {"azimuth": 90.0 + yaw, "elevation": -12.0} if self.layout.kind != "block" else {}
+        self.camera = {"azimuth": 90.0 + yaw, "elevation": -12.0} if self.layout.kind in ("step", "terrace") else {}
 
     # ------------------------------------------------------------------ scene
     def build(self, spec: mujoco.MjSpec) -> None:
         lay, r = self.layout, self.cfg.robot
         spec.modelname = f"octopus_{self.instance}"
-        spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1],
-                                friction=[self.cfg.scene.friction, 0.005, 0.0001], contype=GROUND_BIT,
-                                conaffinity=0, rgba=[0.5, 0.5, 0.5, 1])
+        z0 = 0.0
+        if lay.terrain is None:
+            spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1],
+                                    friction=[self.cfg.scene.friction, 0.005, 0.0001], contype=GROUND_BIT,
+                                    conaffinity=0, rgba=[0.5, 0.5, 0.5, 1])
+        else:
+            from terrabench.terrain import sine_sum
+            from terrabench.terrain.mjcf import add_heightfield
+
+            p = lay.terrain
+            x, y = sine_sum.vertex_xy(p)
+            cx, cy = sine_sum.CENTRE_XY
+            add_heightfield(spec, sine_sum.heights(p), x - cx, y - cy, name="floor", friction=self.cfg.scene.friction)
+            # the robot starts above the highest ground under its footprint
+            gx, gy = np.meshgrid(np.linspace(-0.6, 0.6, 13) + lay.start[0] + cx, np.linspace(-0.6, 0.6, 13) + lay.start[1] + cy)
+            z0 = float(np.max(sine_sum.point_height(p, gx, gy)))
         pieces.add_boxes(spec, lay.boxes, friction=self.cfg.scene.friction)
         spec.worldbody.add_light(pos=[0, 0, 4], dir=[0, 0, -1])
-        add_robot(spec, (lay.start[0], lay.start[1], r.pulley_r + 0.01), lay.start_yaw, r)
+        add_robot(spec, (lay.start[0], lay.start[1], z0 + r.pulley_r + 0.01), lay.start_yaw, r)
         # start pose of the arms: out to the sides, tips just above the ground
         self._q0 = {Names.arm_joint(k, "swing"): (0.9 if k[1] == "F" else -0.6) for k in ARMS}
         self._q0.update({Names.arm_joint(k, "boom"): -0.3 for k in ARMS})
@@ -214,11 +241,14 @@ class OctopusTask(TaskBase):
         stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
         if lay.kind == "block":
             past = s > lay.edge + pr.block_past
+        elif lay.kind == "rough":
+            past = s > lay.edge + pr.success_past
         else:
             past = s > lay.edge + pr.success_past and z > lay.top + self.cfg.robot.pulley_r - 0.05
         self._on_top_n = self._on_top_n + 1 if (past and stable) else 0
         if self._on_top_n >= self._hold_n:
-            where = "past the block" if lay.kind == "block" else f"on the {lay.top:.2f} m top"
+            where = {"block": "past the block", "rough": "1.5 m over the rough ground"}.get(
+                lay.kind, f"on the {lay.top:.2f} m top")
             return "success", f"{where}, stable for {pr.success_hold} s"
         return None
 

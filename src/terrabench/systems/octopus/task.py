@@ -135,7 +135,8 @@ class OctopusTask(TaskBase):
             cx, cy = sine_sum.CENTRE_XY
             add_heightfield(spec, sine_sum.heights(p), x - cx, y - cy, name="floor", friction=self.cfg.scene.friction)
             # the robot starts above the highest ground under its footprint
-            gx, gy = np.meshgrid(np.linspace(-0.6, 0.6, 13) + lay.start[0] + cx, np.linspace(-0.6, 0.6, 13) + lay.start[1] + cy)
+            around = np.linspace(-0.6, 0.6, 13)
+            gx, gy = np.meshgrid(around + lay.start[0] + cx, around + lay.start[1] + cy)
             z0 = float(np.max(sine_sum.point_height(p, gx, gy)))
         pieces.add_boxes(spec, lay.boxes, friction=self.cfg.scene.friction)
         spec.worldbody.add_light(pos=[0, 0, 4], dir=[0, 0, -1])

@@ -41,9 +41,9 @@ MARGIN_NOTE = (
     "contact is negative: impacts, the lift, the release) are counted apart, with their worst "
     "instantaneous margin.")
 HEADING_NOTE = (
-    "Heading: neither controller has a yaw input (the robot senses roll and pitch only, like the "
-    "paper's controller); the paper's operator gave the move direction. Nothing here stands in "
-    "for that channel, so yaw drift is not corrected.")
+    "Heading: the paper's operator gave the move direction. Here both controllers integrate the "
+    "IMU gyro's yaw rate into a heading and hold the start heading with a crawler speed difference "
+    "(0.2 m/s per rad, at most 0.03 m/s each way); the robot senses no yaw angle and no position.")
 
 
 def group(rows: list[dict[str, Any]]) -> dict[tuple[str, str], list[dict[str, Any]]]:
@@ -79,6 +79,7 @@ def task_summary(rs: list[dict[str, Any]]) -> dict[str, Any]:
             "min_margin": lo(m("min_margin")), "dyn_events": mean(m("dyn_events")),
             "min_margin_dyn": lo(m("min_margin_dyn")), "track_share": mean(m("track_share")),
             "energy": mean(m("energy")), "track_energy": mean(m("track_energy")),
+            "speed": mean(m("progress") / np.maximum(m("sim_time"), 1e-9)),
             "time_success": mean(t[ok]) if ok.any() else float("nan")}
 
 
@@ -112,14 +113,14 @@ def _lines(g, order) -> list[dict[str, Any]]:
             "dynamic events / trial": round(s["dyn_events"], 1) if s["dyn_events"] == s["dyn_events"] else None,
             "worst dynamic margin m": s["min_margin_dyn"],
             "track share": s["track_share"], "energy J": s["energy"], "of it crawlers J": s["track_energy"],
-            "time to success s": s["time_success"],
+            "time to success s": s["time_success"], "mean speed m/s": s["speed"],
         })
     return lines
 
 
 LINE_COLUMNS = ("task", "mode", "n", "success", "paper", "statuses", "max pitch rad", "max roll rad",
                 "min margin m", "dynamic events / trial", "worst dynamic margin m", "track share",
-                "energy J", "of it crawlers J", "time to success s")
+                "energy J", "of it crawlers J", "time to success s", "mean speed m/s")
 
 
 def summary_table(rows: list[dict[str, Any]]):

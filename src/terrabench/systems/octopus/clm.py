@@ -73,12 +73,12 @@ class CLMConfig:
         targets: transfer target tips in {R} (x, |y|, z) for (front, rear) arms (m), Table 2's analogue.
         d_c, d_d: arm stop thresholds dC (x) and dD (z) (m).
         gait_pause: support time between two transfers (s).
-        d_e: boom step dE of eq. 28; d_f: flipper step dF of eq. 29.
+        d_f: flipper step dF of eq. 29 (the lift moves tip targets, not booms, so eq. 28's dE has
+            no field; the release steps are release_d_e and release_d_f).
         climb_distance: L of eqs. 28-29, travel past the edge before release (m) (0.6 x 0.5 m).
         h2: H2 of the COG-height rule: height of the robot origin above the track bottom less the
             tip radius (m) (fixed, like the paper's COG).
         release_boom: boom angle the arms return to on release (rad).
-        stall_lag: boom command ahead of the boom by this much while lowering = contact too (rad).
         lift_margin: while lifting, booms hold once H exceeds H_EST by this (m) (our addition: eq. 28
             read literally keeps lowering the booms until S > L and tips the robot over).
         pitch_cap: while lifting, front booms hold above this pitch, rear booms below minus it (rad).
@@ -131,7 +131,6 @@ class CLMConfig:
     d_c: float = param(0.1, gt=0, unit="m", doc="arm stop threshold dC (x)")
     d_d: float = param(0.08, gt=0, unit="m", doc="arm stop threshold dD (z)")
     gait_pause: float = param(0.4, ge=0, unit="s", doc="support time between two transfers")
-    d_e: float = param(0.02, gt=0, unit="rad/tick", doc="boom step dE of eq. 28")
     d_f: float = param(0.0873, gt=0, unit="rad/tick", doc="flipper step dF of eq. 29")
     climb_distance: float = param(0.3, gt=0, unit="m", doc="L of eqs. 28-29: travel past the edge before release")
     h2: float = param(0.05, unit="m",
@@ -142,8 +141,6 @@ class CLMConfig:
     pitch_cap: float = param(0.25, gt=0, le=math.pi / 2, unit="rad", doc="while lifting, booms hold beyond this pitch")
     lift_margin: float = param(0.03, ge=0, unit="m", doc="while lifting, booms hold once H exceeds H_EST by this")
     flip_min: float = param(-0.8, ge=-math.pi, le=math.pi, unit="rad", doc="lowest flipper command while climbing")
-    stall_lag: float = param(0.25, gt=0, unit="rad",
-                             doc="boom command ahead of the boom by this while lowering = contact")
     lift_dz: float = param(0.002, gt=0, unit="m/tick", doc="lift: every tip target moves down by this a tick")
     flip_lead: float = param(0.05, ge=0, unit="rad",
                              doc="flipper command kept within this of the measured angle (eq. 29)")

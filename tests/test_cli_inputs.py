@@ -293,3 +293,17 @@ def test_a_single_unit_chain_is_refused_for_spring_methods_only(tmp_path):
     one_error_line(invoke("run", "mrs-cwc", "--terrains", "A-01", "--methods", "cwc-tdt", "--set", "chain.n_units=1",
                           "--store", str(store)), "'chain.n_units' = 1", "cwc-tdt")
     assert not store.exists()
+
+
+def test_the_mrs_cwc_report_says_in_words_when_the_protocol_is_not_the_papers():
+    from terrabench.report.variants import Variant
+    from terrabench.systems.mrs_cwc.report import protocol_note
+
+    default = Variant("cwc-tdt", "cwc-tdt", "MRS-CWC + TDT", {}, "h0", {})
+    short = Variant("cwc-tdt@1", "cwc-tdt", "MRS-CWC + TDT", {"protocol.timeout": 300.0}, "h1", {})
+    near = Variant("mj-tdt@2", "mj-tdt", "MRS-MJ + TDT", {"protocol.success_threshold": 0.25}, "h2", {})
+    assert protocol_note([default]) == ""
+    text = protocol_note([default, short, near])
+    assert "not comparable" in text and "cwc-tdt@1: protocol.timeout = 300.0 s (paper 1000 s)" in text
+    assert "mj-tdt@2: protocol.success_threshold = 0.25 m (paper 0.5 m)" in text
+    assert "cwc-tdt:" not in text

@@ -120,6 +120,9 @@ def write_report(store, out_dir: Path, render: bool = False, system: Any = None)
         "heavy-tailed (a trial that barely moved toward the target has a huge NEC), so the CSVs also "
         "give <code>NEC_pooled</code> = sum(E) / sum(D_ef) over the row's trials."
     )
+    differs = protocol_note(variants)
+    if differs:
+        page.raw(note(differs))
     for group in dataset.GROUPS:
         lines = group_table(variants, summ, group)
         name = f"table_{group}.csv"
@@ -172,6 +175,26 @@ def write_report(store, out_dir: Path, render: bool = False, system: Any = None)
 
 SEED_COLUMNS = ("group", "method", "label", "n_terrains", "n_seeds", "NSR", "NSR_lo", "NSR_hi", "flip_share",
                 "NSR_paper")
+
+
+#: the protocol settings the paper's numbers were measured under (spec section 2); a variant that
+#: changes one is not comparable with them (the report says so in words)
+PAPER_PROTOCOL = {"protocol.timeout": (1000.0, "s"), "protocol.success_threshold": (0.5, "m")}
+
+
+def protocol_note(variants: list[Variant]) -> str:
+    """One sentence naming the variants run under another protocol than the paper's, or ''."""
+    parts = []
+    for v in variants:
+        changed = [f"{k} = {v.diff[k]} {unit} (paper {ref:g} {unit})" for k, (ref, unit) in PAPER_PROTOCOL.items()
+                   if k in v.diff and v.diff[k] != ref]
+        if changed:
+            parts.append(f"{v.id}: {', '.join(changed)}")
+    if not parts:
+        return ""
+    return ("Not the paper's protocol, so not comparable with its numbers (a shorter time limit turns late "
+            "arrivals into timeouts; another success distance changes what counts as arrival): " + "; ".join(parts)
+            + ".")
 
 
 def seed_lines(variants: list[Variant], seeded: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -147,6 +147,9 @@ def test_render_refusals_come_before_any_episode(tmp_path):
     one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--seed", "-1", "--out", out), "--seed", "-1")
     one_error_line(invoke("render", "beams", "--terrain", "stiff", "--out", out), "'beams'", "episode loop")
     one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--out", str(tmp_path / "x.avi")), "'.avi'", ".mp4")
+    one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--width", "641", "--height", "481", "--out",
+                          str(tmp_path / "x.mp4")), "641x481", "even", "642x482")
+    assert not (tmp_path / "x.mp4").exists()
     one_error_line(invoke("render", "mrs-cwc", "--terrain", "A-01", "--out", out, env={"MUJOCO_GL": "nope"}),
                    "MUJOCO_GL", "'nope'", "egl")
     assert not (tmp_path / "x.png").exists()

@@ -410,13 +410,14 @@ def render(
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
     from terrabench.paths import check_out_file
-    from terrabench.report.render import VIDEO_SUFFIXES, check_gl_env, check_renderable
+    from terrabench.report.render import VIDEO_SUFFIXES, check_frame_size, check_gl_env, check_renderable
 
     check_out_file(out, suffixes=VIDEO_SUFFIXES)
     if not (fps > 0) or fps == float("inf"):
         raise ValueError(f"--fps must be a positive number, got {fps}")
     if width <= 0 or height <= 0:
         raise ValueError(f"--width and --height must be positive, got {width}x{height}")
+    check_frame_size(out, width, height)
     if seed < 0:
         raise ValueError(f"--seed must be >= 0 (0 = the released start), got {seed}")
     check_gl_env()

@@ -209,6 +209,14 @@ def _check_suffix(path: Path) -> None:
                          "(.png writes a frame strip)")
 
 
+def check_frame_size(path: str | Path, width: int, height: int) -> None:
+    """ValueError (one line) for a frame size the output cannot take: H.264 in yuv420p (.mp4)
+    needs even sizes (ffmpeg would fail after the episode has run)."""
+    if Path(path).suffix.lower() == ".mp4" and (width % 2 or height % 2):
+        raise ValueError(f"--width/--height {width}x{height}: an .mp4 (H.264, yuv420p) needs even sizes, e.g. "
+                         f"{width + width % 2}x{height + height % 2}; .gif and .png take any size")
+
+
 def frame_times(control_period: float, n_periods: int, fps: float | None, every: int | None) -> list[int]:
     """Control-period indices (0 .. n_periods - 1) at which a frame is grabbed.
 
@@ -268,6 +276,7 @@ def render_trial(system: Any, spec: Any, out_path: str | Path, fps: float = 30, 
     out_path = Path(out_path)
     _check_suffix(out_path)
     _check_fps(fps)
+    check_frame_size(out_path, width, height)
     t0 = time.perf_counter()
     task, controller, Episode = _episode(system, spec)
     frames_at: set[int] = set()

@@ -77,7 +77,8 @@ def test_transfer_phases():
     assert ph == 1 and c[1] < 0 and c[2] < 1.0          # lifting: boom up, elbow straightens
     ph, c = clm.transfer_step(1, np.array([0.0, -0.6, 0.3]), c, np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
     assert ph == 2
-    ph, c = clm.transfer_step(2, np.array([0.0, -0.6, 0.3]), np.array([0.0, -0.6, 0.3]), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    q = np.array([0.0, -0.6, 0.3])
+    ph, c = clm.transfer_step(2, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
     assert ph == 2 and c[0] == pytest.approx(0.04)       # swinging forward
 
 

@@ -274,14 +274,14 @@ def transfer_step(phase: int, q: np.ndarray, cmd: np.ndarray, target: np.ndarray
     return phase, c
 
 
-def climb_rule(boom: float, flip: float, h: float, h_est: float, s: float, l: float,
+def climb_rule(boom: float, flip: float, h: float, h_est: float, s: float, l_set: float,
                d_e: float, d_f: float, boom_rest: float) -> tuple[float, float, bool]:
     """Eqs. 28-29: (boom, flipper) commands and whether the release has begun.
 
     While H < H_EST or S < L: booms down (+dE, our sign) and flippers down (-dF).
     Then: booms back up (-dE) while above their rest angle, flippers up (+dF) while below 0.
     """
-    if h < h_est or s < l:
+    if h < h_est or s < l_set:
         return boom + d_e, flip - d_f, False
     nb = boom - d_e if boom > boom_rest else boom
     nf = flip + d_f if flip < 0.0 else flip
@@ -540,7 +540,7 @@ class CLMController:
             if h >= self.h_est:
                 self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
             if h < self.h_est + cfg.lift_margin:
-                for i, k in enumerate(ARMS):
+                for i in range(len(ARMS)):
                     front = i < 2
                     if (front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap):
                         continue

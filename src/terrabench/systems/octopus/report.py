@@ -18,7 +18,8 @@ PAPER = {
     ("step-400", "ccm"): {"success": "0/5 (turned over)", "max_pitch": None, "max_roll": -0.14, "min_margin": None},
     ("terrace2-front", "clm"): {"success": "yes", "max_pitch": 0.59, "max_roll": None, "min_margin": 0.17},
     ("terrace2-side", "clm"): {"success": "yes", "max_pitch": None, "max_roll": -0.25, "min_margin": 0.07},
-    ("block-500", "clm"): {"success": "passes (arm detects, rides over)", "max_pitch": None, "max_roll": None, "min_margin": None},
+    ("block-500", "clm"): {"success": "passes (arm detects, rides over)", "max_pitch": None, "max_roll": None,
+                           "min_margin": None},
 }
 TASK_ORDER = ("step-400", "terrace2-front", "terrace2-side", "block-500")
 METHOD_LABEL = {"clm": "CLM", "ccm": "CCM"}

@@ -21,7 +21,8 @@ ROUGH_SCENARIO = "octopus/rough-v1"
 ROUGH_TASKS = tuple(ROUGH_LEVELS)
 METHODS = {
     "clm": MethodInfo("clm", "compound locomotion mode: arms walk and lift, flippers crawl (Chen et al.)", ("arms",)),
-    "ccm": MethodInfo("ccm", "crawler-only mode: automated flipper step climbing (Nagatani/Okada stand-in)", ("crawler",)),
+    "ccm": MethodInfo("ccm", "crawler-only mode: automated flipper step climbing (Nagatani/Okada stand-in)",
+                      ("crawler",)),
 }
 
 

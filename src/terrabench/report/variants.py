@@ -147,13 +147,7 @@ def find_variants(rows: Sequence[dict[str, Any]], *,
             if shared and len({tuple(canonical_json(g["flat"][k]) for k in shared) for _, g in vs}) == len(vs):
                 differing = shared
 
-            def text(g: dict[str, Any]) -> str:
-                vals = [describe(k, g["diff"].get(k, g["flat"].get(k, "default"))) for k in differing[:most]]
-                if len(differing) > most:
-                    vals.append(f"+{len(differing) - most} more")
-                return f"{base} ({', '.join(vals)})" if vals else f"{base} (defaults)"
-
-            labels = [text(g) for _, g in vs]
+            labels = [_label(base, g, differing, describe, most) for _, g in vs]
             if len(set(labels)) < len(labels):  # the shown keys did not tell them apart
                 labels = [f"{lb} [{_hash8(g['diff'])}]" for lb, (_, g) in zip(labels, vs)]
         for lb, (_, g) in zip(labels, vs):
@@ -161,6 +155,15 @@ def find_variants(rows: Sequence[dict[str, Any]], *,
             vid = m if len(vs) == 1 else f"{m}@{_hash8(g['diff'])}"
             out.append(Variant(vid, m, lb, dict(g["diff"]), hashes[0], g["config"], hashes))
     return out
+
+
+def _label(base: str, g: dict[str, Any], keys: Sequence[str], describe: Callable[[str, Any], str],
+           most: int) -> str:
+    """``"CLM (arm.press_force=40, +2 more)"``: the method's label and its values of ``keys``."""
+    vals = [describe(k, g["diff"].get(k, g["flat"].get(k, "default"))) for k in keys[:most]]
+    if len(keys) > most:
+        vals.append(f"+{len(keys) - most} more")
+    return f"{base} ({', '.join(vals)})" if vals else f"{base} (defaults)"
 
 
 def tag_rows(rows: Sequence[dict[str, Any]], variants: Sequence[Variant]) -> list[dict[str, Any]]:

@@ -102,4 +102,4 @@ def test_short_episode_on_soil_senses_the_loads_and_moves():
     assert w.sum() == pytest.approx(225 * 9.81, rel=0.05)  # the soil carries the rover
     assert r.metrics["progress"] > 0.0
     assert r.info["events"][0][2] == "WRM"
-    assert r.info["qp_n"] > 0
+    assert r.info["qp_n"] + r.info["qp_inside"] == r.info["control_steps"]  # one IK step per period

@@ -36,9 +36,8 @@ from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
 from terrabench.systems.srwmr.kinematics import (
     delta_for_clearance,
+    geometry,
     inverse_kinematics,
-    rocker_jacobian,
-    wheelbase_front_middle,
 )
 from terrabench.systems.srwmr.robot import RobotConfig
 
@@ -184,6 +183,11 @@ class RoverController:
             self.mu_cmd = obs.mu.copy()
             self._next(obs, "plan start")
         ts = self.ts
+        # the kinematics of this period, once: the suspension geometry (no steering offsets) for the
+        # constraints, and the contact points with the steering offsets for the wheel commands
+        self._susp = geometry(self.robot, obs.delta)
+        self._J = self._susp[1]
+        self._geom = geometry(self.robot, obs.delta, self.mu_cmd)
         u_nom = np.zeros(5)
         steer_only = False
         lifted = ()
@@ -252,18 +256,19 @@ class RoverController:
                     return self._command(obs, np.zeros(5), hold=True)
         # --- constraint-saturated IK
         kappa = mc.thresholds(st.mode)
-        J = rocker_jacobian(self.robot, obs.delta)
-        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa, J)
+        J, P = self._J, self._susp[0]
+        wb = np.array([P[0, 0] - P[2, 0], P[1, 0] - P[3, 0]])
+        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa, J, wb)
         if u is None:
             return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
-        ratios = self._ratios(obs, u, J)
+        ratios = self._ratios(obs, u, J, wb)
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
         over = np.where(MONITORED, ratios / kappa, 0.0)
         if np.any(over >= 1.0):
             i = int(np.argmax(over))
             return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
-        return self._command(obs, u, steer_only=steer_only, lifted=lifted, ratios=ratios, J=J)
+        return self._command(obs, u, steer_only=steer_only, lifted=lifted, ratios=ratios)
 
     # ---------------------------------------------------------------- modes
     def _wrm(self, obs, st: Step, x, y, dyaw):
@@ -290,7 +295,9 @@ class RoverController:
             return np.zeros(5), True
         # hold the start heading and line (small corrections)
         wz = -0.5 * dyaw - 0.5 * (y - self._start_y()) * 0.2
-        return np.array([st.v, 0.0, max(-0.02, min(0.02, wz)), 0.0, 0.0]), False
+        # the correction's curvature stays below 0.5 /m (no steering swing while the speed ramps up)
+        lim = min(0.02, 0.5 * abs(float(self.u_prev[0])))
+        return np.array([st.v, 0.0, max(-lim, min(lim, wz)), 0.0, 0.0]), False
 
     def _start_x(self):
         (x0, y0), yaw0 = self.origin
@@ -325,7 +332,7 @@ class RoverController:
 
     def _rate_for(self, obs, vz: float, target_delta: float) -> np.ndarray:
         """Closing rates (2,) lifting the chassis at ``vz`` towards ``target_delta``."""
-        J = rocker_jacobian(self.robot, obs.delta)
+        J = self._J
         dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
         err = target_delta - obs.delta
         rate = np.sign(err) * abs(vz) / np.maximum(dz, 1e-3)
@@ -348,7 +355,7 @@ class RoverController:
         d0 = self.step_start[2]
         base = float(np.mean(d0))
         hi = base + st.amp
-        J = rocker_jacobian(self.robot, obs.delta)
+        J = self._J
         if self.phase == 0:
             if np.min(obs.delta) >= hi - 0.004:
                 self.phase = 1
@@ -393,10 +400,9 @@ class RoverController:
         return self._command(obs, np.array([0.0, 0.0, 0.0, rate[0], rate[1]]))
 
     # ---------------------------------------------------------------- output
-    def _ratios(self, obs, u, J) -> np.ndarray:
+    def _ratios(self, obs, u, J, wb) -> np.ndarray:
         r = np.zeros(len(mc.NAMES))
         sc = self.sc
-        wb = wheelbase_front_middle(self.robot, obs.delta)
         dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
         # MC2: measured rim speeds of the grounded wheels against the kinematics of the measured rates
         if np.any(np.abs(obs.ddelta) > 1e-4) and hasattr(self, "_rim_cmd"):
@@ -415,8 +421,7 @@ class RoverController:
         r[8], r[9] = mc.load_ratios(obs.load, sc)
         return r
 
-    def _command(self, obs, u, *, hold: bool = False, steer_only: bool = False, lifted=(), ratios=None,
-                 J=None) -> Command:
+    def _command(self, obs, u, *, hold: bool = False, steer_only: bool = False, lifted=(), ratios=None) -> Command:
         ts = self.ts
         goal = getattr(self, "mu_goal", None)
         if goal is not None and (steer_only or self.plan[min(self.k, len(self.plan) - 1)].mode == "WCM"):
@@ -430,7 +435,8 @@ class RoverController:
                 self.u_prev = np.zeros(5)
                 return Command(self.mu_cmd.copy(), spin, self.target.copy(), np.zeros(5), MODE_CODE.get(self.mode, 9),
                                np.zeros(len(mc.NAMES)) if ratios is None else ratios, self.stop, self.k)
-        mu, spin = inverse_kinematics(self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted)
+        mu, spin = inverse_kinematics(self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted,
+                                      geom=getattr(self, "_geom", None))
         # a wheel whose steering is far from its target waits (no rolling against its heading)
         err = np.abs(mu - obs.mu)
         if np.max(err) > 0.15 and np.any(np.abs(u[:3]) > 0):

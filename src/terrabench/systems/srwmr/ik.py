@@ -55,12 +55,12 @@ class IKState:
 
 
 def build_qp(cfg: RobotConfig, st: IKState, kappa: np.ndarray, sc: mc.Scales, lim: IKLimits, ts: float,
-             J: np.ndarray | None = None):
+             J: np.ndarray | None = None, wb: np.ndarray | None = None):
     """(G, h, lb, ub) of one control step. Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4, MC7 x2, MC8 x2, MC9 x2."""
     d = st.delta
     J = rocker_jacobian(cfg, d) if J is None else J
     wb0 = cfg.front_len  # nominal front-middle distance
-    wb = wheelbase_front_middle(cfg, d)
+    wb = wheelbase_front_middle(cfg, d) if wb is None else wb
     dwb = np.array([J[0, 0] - J[2, 0], J[1, 0] - J[3, 0]])  # d wb / d delta per side
     dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])  # hinge rise per delta
     G = np.zeros((N_INEQ, N_U))
@@ -115,12 +115,19 @@ class SaturatedIK:
         self.P = np.diag(np.asarray(lim.weights, float))
         self.times: list[float] = []
         self.active = 0  # steps where the projection changed the command
+        self.inside = 0  # steps whose nominal command was already feasible (no solver call)
 
-    def solve(self, u_nom: np.ndarray, st: IKState, kappa: np.ndarray, J: np.ndarray | None = None) -> np.ndarray | None:
-        """u* or None when infeasible (``J``: the rocker Jacobian at ``st.delta`` if already known)."""
-        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J)
+    def solve(self, u_nom: np.ndarray, st: IKState, kappa: np.ndarray, J: np.ndarray | None = None,
+              wb: np.ndarray | None = None, always: bool = False) -> np.ndarray | None:
+        """u* or None when infeasible (``J``, ``wb``: the rocker Jacobian and wheelbases at
+        ``st.delta`` if already known). A nominal command inside the set is the QP's own optimum
+        and is returned without calling the solver (``always``: call it anyway, for timing)."""
+        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J, wb)
         if np.any(lb > ub + 1e-12):
             return None
+        if not always and np.all(G @ u_nom <= h + 1e-12) and np.all(u_nom >= lb) and np.all(u_nom <= ub):
+            self.inside += 1
+            return np.asarray(u_nom, float).copy()
         q = -self.P @ u_nom
         t0 = time.perf_counter()
         u = qpsolvers.solve_qp(self.P, q, G, h, lb=lb, ub=ub, solver=self.solver)
@@ -134,6 +141,6 @@ class SaturatedIK:
     def timing(self) -> dict[str, float]:
         t = np.asarray(self.times) * 1e6
         if not len(t):
-            return {"qp_n": 0, "qp_median_us": float("nan"), "qp_p99_us": float("nan")}
-        return {"qp_n": len(t), "qp_median_us": float(np.median(t)), "qp_p99_us": float(np.percentile(t, 99)),
-                "qp_active_share": self.active / len(t)}
+            return {"qp_n": 0, "qp_inside": self.inside, "qp_median_us": float("nan"), "qp_p99_us": float("nan")}
+        return {"qp_n": int(len(t)), "qp_inside": self.inside, "qp_median_us": float(np.median(t)),
+                "qp_p99_us": float(np.percentile(t, 99)), "qp_active_share": self.active / len(t)}

@@ -69,6 +69,43 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
     return out
 
 
+def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
+    """Axle centres (6, 3) and d(axle)/d(delta_side) (6, 3) in closed form, bogies level and the
+    differential at zero: the same numbers as :func:`axle_positions` / :func:`rocker_jacobian`
+    (tested), at a fraction of the cost (the controller calls it once per control period).
+
+    Rear side: the pivot sits at angle theta_s20 + delta below the hinge, the level bogie carries
+    the pillars; front: the section turned by z delta carries its pillar.
+    """
+    d0, d1 = float(delta[0]), float(delta[1])
+    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
+    th0, lpr, lpf = cfg.theta_s20, cfg.pillar_rear, cfg.pillar_front
+    e = cfg.wheel_offset
+    yl = cfg.steer_y
+    P = np.empty((6, 3))
+    J = np.zeros((6, 3))
+    for s, dl in ((0, d0), (1, d1)):
+        sg = 1.0 if s == 0 else -1.0
+        ang = th0 + dl
+        ca, sa = math.cos(ang), math.sin(ang)
+        px, pz = -b * ca, -b * sa
+        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
+            m = 0.0 if mu is None else float(mu[wi])
+            P[wi, 0] = px + xb - sg * e * math.sin(m)
+            P[wi, 1] = sg * yl + sg * e * math.cos(m)
+            P[wi, 2] = pz - lpr
+            J[wi, 0], J[wi, 2] = b * sa, -b * ca
+        m = 0.0 if mu is None else float(mu[s])
+        xa = a - sg * e * math.sin(m)
+        cq, sq = math.cos(z * dl), math.sin(z * dl)
+        P[s, 0] = xa * cq - lpf * sq
+        P[s, 1] = sg * yl + sg * e * math.cos(m)
+        P[s, 2] = -xa * sq - lpf * cq
+        J[s, 0] = z * (-xa * sq - lpf * cq)
+        J[s, 2] = z * (-xa * cq + lpf * sq)
+    return P, J
+
+
 def contact_points(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=None) -> np.ndarray:
     """(6, 3) wheel-ground contact points in the body frame (axle - r z_b)."""
     p = axle_positions(cfg, delta, zeta, phi, mu)
@@ -127,12 +164,16 @@ def wheelbase_front_middle(cfg: RobotConfig, delta) -> np.ndarray:
     return np.array([p[0, 0] - p[2, 0], p[1, 0] - p[3, 0]])
 
 
-def wheel_velocities(cfg: RobotConfig, u, delta, mu=None) -> np.ndarray:
+def wheel_velocities(cfg: RobotConfig, u, delta, mu=None, geom=None) -> np.ndarray:
     """(6, 2) horizontal contact velocities (body frame) required by ``u = (vx, vy, wz,
-    ddelta_L, ddelta_R)`` so that no wheel slips: v_b + w x c_i + J_i ddelta."""
+    ddelta_L, ddelta_R)`` so that no wheel slips: v_b + w x c_i + J_i ddelta. ``geom``: a
+    precomputed :func:`geometry` (axles, J) at ``delta`` and ``mu``."""
     u = np.asarray(u, float)
-    c = contact_points(cfg, delta, level_zeta(cfg, delta), mu=mu)
-    J = rocker_jacobian(cfg, delta, mu=mu)
+    if geom is None:
+        c = contact_points(cfg, delta, level_zeta(cfg, delta), mu=mu)
+        J = rocker_jacobian(cfg, delta, mu=mu)
+    else:
+        c, J = geom  # axle x, y equal the contact point's (the contact is straight below)
     rate = u[3:5][_SIDE_IDX]
     v = np.empty((6, 2))
     v[:, 0] = u[0] - u[2] * c[:, 1] + J[:, 0] * rate
@@ -170,13 +211,13 @@ def steer_and_spin(v: np.ndarray, r: float, mu_prev=None, v_min: float = 1e-6):
     return np.where(still, mu_prev, ang), np.where(still, 0.0, spin)
 
 
-def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=()):
+def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):
     """Steering angles (6,) and spin rates (6,) (rad/s) for ``u``; lifted wheels get 0 spin.
 
     ``mu_rate`` (6,) adds the offset-wheel term: turning the steering axis by mu_dot moves the
     contact point backwards along the heading by e mu_dot, rolled out by -e mu_dot / r.
     """
-    v = wheel_velocities(cfg, u, delta, mu=mu_prev)
+    v = wheel_velocities(cfg, u, delta, mu=mu_prev, geom=geom)
     mu, spin = steer_and_spin(v, cfg.wheel_radius, mu_prev)
     if mu_rate is not None:
         spin = spin - cfg.wheel_offset * np.asarray(mu_rate, float) / cfg.wheel_radius

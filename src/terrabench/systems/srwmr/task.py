@@ -16,13 +16,14 @@ import mujoco
 import numpy as np
 
 from terrabench.sim.episode import Timing
-from terrabench.soil import SoilTable, SoilWheels
+from terrabench.soil import SoilTable, SoilWheels, flat_ground, hfield_ground
 from terrabench.soil.presets import HIT_MRII_WHEEL
 from terrabench.systems.base import TaskBase
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
-from terrabench.systems.srwmr.layouts import Layout, layout, profile_ground
+from terrabench.systems.srwmr.layouts import Layout, layout
+from terrabench.terrain.mjcf import add_heightfield
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
     SIDES,
@@ -88,14 +89,19 @@ class SRWMRTask(TaskBase):
         lay, r = self.layout, self.cfg.robot
         spec.modelname = f"srwmr_{self.instance}"
         prof = lay.profile
-        for (x0, z0), (x1, z1) in zip(prof[:-1], prof[1:]):
-            L = math.hypot(x1 - x0, z1 - z0)
-            ang = math.atan2(z1 - z0, x1 - x0)
-            th = 0.1
-            cx, cz = 0.5 * (x0 + x1) + math.sin(ang) * th, 0.5 * (z0 + z1) - math.cos(ang) * th
-            spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[L / 2, 4.0, th], pos=[cx, 0, cz],
-                                    quat=[math.cos(-ang / 2), 0, math.sin(-ang / 2), 0], contype=0,
-                                    conaffinity=LINK_BIT, rgba=[0.72, 0.55, 0.38, 1])
+        self.flat = all(abs(z - prof[0][1]) < 1e-12 for _, z in prof)
+        if self.flat:
+            spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[40, 40, 0.1],
+                                    pos=[0, 0, prof[0][1]], contype=0, conaffinity=LINK_BIT,
+                                    rgba=[0.72, 0.55, 0.38, 1])
+        else:
+            # a ramp or a pit: one heightfield (20 mm along x) for the soil and the rigid links
+            x = np.arange(-4.0, 9.0 + 1e-9, 0.02)
+            y = np.linspace(-2.5, 2.5, 11)
+            z = np.interp(x, [p[0] for p in prof], [p[1] for p in prof])
+            g = add_heightfield(spec, np.repeat(z[:, None], len(y), axis=1), x, y, name="ground", friction=0.8)
+            g.contype, g.conaffinity = 0, LINK_BIT
+            g.rgba = [0.72, 0.55, 0.38, 1]
         for i, (cx, cy, hx, hy, hz) in enumerate(lay.boxes):
             zb = float(np.interp(cx, [p[0] for p in prof], [p[1] for p in prof]))
             spec.worldbody.add_geom(name=f"obstacle_{i}", type=mujoco.mjtGeom.mjGEOM_BOX, size=[hx, hy, hz],
@@ -117,8 +123,9 @@ class SRWMRTask(TaskBase):
             data.qpos[model.joint(Names.front(s)).qposadr[0]] = r.z_ratio * d0
             data.qpos[model.joint(Names.bogie(s)).qposadr[0]] = d0
         mujoco.mj_forward(model, data)
-        self.soil_wheels = SoilWheels(model, data, wheel_bodies(), HIT_MRII_WHEEL, self.table,
-                                      profile_ground(self.layout.profile), v_eps=self.cfg.soil.v_eps,
+        ground = flat_ground(self.layout.profile[0][1]) if self.flat else hfield_ground(model, "ground")
+        self.soil_wheels = SoilWheels(model, data, wheel_bodies(), HIT_MRII_WHEEL, self.table, ground,
+                                      v_eps=self.cfg.soil.v_eps,
                                       every=self.cfg.soil.every, refresh=self.cfg.soil.refresh)
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
         self.before_substep = self.soil_wheels.before_substep

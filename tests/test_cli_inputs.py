@@ -116,6 +116,16 @@ def test_every_out_path_is_checked_before_any_work(tmp_path, command, where):
     assert not store.exists()
 
 
+@pytest.mark.parametrize("where", ["a-folder", "under-a-file", "unwritable"])
+def test_run_store_path_is_checked_before_planning(tmp_path, where):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    bad = {"a-folder": str(tmp_path), "under-a-file": str(afile / "r.duckdb"),
+           "unwritable": "/proc/terrabench-no/r.duckdb"}[where]
+    one_error_line(invoke("run", "mrs-cwc", "--terrains", "A-01", "--store", bad), "--store", repr(bad))
+    assert afile.read_text() == "x"
+
+
 def test_report_out_an_existing_file(tmp_path):
     afile = tmp_path / "afile"
     afile.write_text("x")

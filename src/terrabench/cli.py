@@ -189,6 +189,9 @@ def run(
         raise ValueError(f"--address {address!r} needs --backend ray (the local backend has no cluster)")
     if seeds < 1:
         raise ValueError(f"--seeds must be at least 1, got {seeds}")
+    from terrabench.paths import check_out_file
+
+    check_out_file(store, flag="--store")  # a results file this run can create or write
     sysobj = get_system(system)
     overrides = parse_overrides(set_)
     _limit_overrides(sysobj, overrides, timeout=timeout, threshold=threshold)

@@ -74,14 +74,17 @@ def test_unknown_mode_in_a_plan():
         _ctl([Step("SWLM")])
 
 
-@pytest.mark.parametrize("kw,match", [
-    ({"instances": ["t99"]}, "unknown srwmr instance"),
-    ({"methods": ["walk"], "instances": ["t1-loose"]}, "walk"),
-    ({"methods": ["rcm"], "instances": ["t1-loose"]}, "valid: t1-loose: wrm"),
-    ({"instances": ["t1-loose"], "overrides": {"scene.clearance": 0.7}}, r"scene.clearance.*\[0.15, 0.55\]"),
-    ({"instances": ["t1-loose"], "overrides": {"soil.preset": "mud"}}, "soil.preset.*very_loose"),
-    ({"instances": ["t1-loose"], "overrides": {"robot.wheel_offset": 0.5}}, r"\[0, 0.3\]"),
-])
+@pytest.mark.parametrize(
+    "kw,match",
+    [
+        ({"instances": ["t99"]}, "unknown srwmr instance"),
+        ({"methods": ["walk"], "instances": ["t1-loose"]}, "walk"),
+        ({"methods": ["rcm"], "instances": ["t1-loose"]}, "valid: t1-loose: wrm"),
+        ({"instances": ["t1-loose"], "overrides": {"scene.clearance": 0.7}}, r"scene.clearance.*\[0.15, 0.55\]"),
+        ({"instances": ["t1-loose"], "overrides": {"soil.preset": "mud"}}, "soil.preset.*very_loose"),
+        ({"instances": ["t1-loose"], "overrides": {"robot.wheel_offset": 0.5}}, r"\[0, 0.3\]"),
+    ],
+)
 def test_bad_requests_name_the_value_and_the_choices(kw, match):
     with pytest.raises(ValueError, match=match):
         SYSTEM.plan(**kw)

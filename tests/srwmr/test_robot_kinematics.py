@@ -16,8 +16,13 @@ def _model(rigid: bool = False, delta: float = 0.0):
     spec = mujoco.MjSpec()
     spec.option.timestep = 0.002
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[20, 20, 0.1], contype=0,
-                            conaffinity=LINK_BIT | (WHEEL_BIT if rigid else 0), friction=[1.0, 0.005, 0.0001])
+    spec.worldbody.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[20, 20, 0.1],
+        contype=0,
+        conaffinity=LINK_BIT | (WHEEL_BIT if rigid else 0),
+        friction=[1.0, 0.005, 0.0001],
+    )
     add_robot(spec, (0, 0, CFG.hinge_height + 0.002), 0.0, CFG)
     m = spec.compile()
     d = mujoco.MjData(m)
@@ -49,11 +54,11 @@ def test_axles_match_the_simulator_at_two_rocker_angles():
 
 def test_stated_dimensions():
     p = kin.axle_positions(CFG, [0.0, 0.0])
-    assert p[0, 1] - p[1, 1] == pytest.approx(1.304)        # d_wt [S]
-    assert p[0, 0] - p[4, 0] == pytest.approx(1.550)        # d_wl front-rear [S/R]
+    assert p[0, 1] - p[1, 1] == pytest.approx(1.304)  # d_wt [S]
+    assert p[0, 0] - p[4, 0] == pytest.approx(1.550)  # d_wl front-rear [S/R]
     assert kin.chassis_clearance(CFG, [0.0, 0.0]) == pytest.approx(0.25)  # [S] 250 mm
     lo, hi = kin.clearance_range(CFG)
-    assert lo < 0.15 and hi > 0.55                             # the tested 150-550 mm reachable
+    assert lo < 0.15 and hi > 0.55  # the tested 150-550 mm reachable
     for c in (0.15, 0.33, 0.48, 0.55):
         d = kin.delta_for_clearance(CFG, c)
         assert kin.chassis_clearance(CFG, [d, d]) == pytest.approx(c, abs=1e-6)
@@ -69,8 +74,9 @@ def test_closing_lifts_and_narrows_the_wheelbase():
 def test_forward_inverse_consistency():
     rng = np.random.default_rng(1)
     for _ in range(20):
-        u = np.array([rng.uniform(-0.05, 0.05), rng.uniform(-0.02, 0.02), rng.uniform(-0.05, 0.05),
-                      *rng.uniform(-0.02, 0.02, 2)])
+        u = np.array(
+            [rng.uniform(-0.05, 0.05), rng.uniform(-0.02, 0.02), rng.uniform(-0.05, 0.05), *rng.uniform(-0.02, 0.02, 2)]
+        )
         delta = rng.uniform(-0.2, 0.6, 2)
         mu0 = rng.uniform(-0.3, 0.3, 6)  # steering that places the offset contact points
         mu, spin = kin.inverse_kinematics(CFG, u, delta, mu_prev=mu0)

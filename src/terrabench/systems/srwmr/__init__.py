@@ -11,6 +11,11 @@ SYSTEM_ID = "srwmr"
 def register(registry: Registry) -> None:
     from terrabench.systems.srwmr.scenarios import SCENARIO, SLOPE_SCENARIO, SYSTEM
 
-    SYSTEM.register(registry, "terrabench.systems.srwmr.scenarios:SYSTEM",
-                    {SCENARIO: "the paper's tasks T1, T3, T4, T5, T8, T11, T14 on loose soil",
-                     SLOPE_SCENARIO: "slope sweep 0-25 deg, very loose and loose soil, WRM vs RCM"})
+    SYSTEM.register(
+        registry,
+        "terrabench.systems.srwmr.scenarios:SYSTEM",
+        {
+            SCENARIO: "the paper's tasks T1, T3, T4, T5, T8, T11, T14 on loose soil",
+            SLOPE_SCENARIO: "slope sweep 0-25 deg, very loose and loose soil, WRM vs RCM",
+        },
+    )

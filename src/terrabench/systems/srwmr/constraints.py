@@ -23,8 +23,21 @@ import numpy as np
 from terrabench.systems.srwmr.robot import WHEELS
 
 #: MC#1: the lift sets the paper allows (single wheels, symmetric pairs, asymmetric pairs)
-ALLOWED_LIFTS = (("c1",), ("c2",), ("c3",), ("c4",), ("c5",), ("c6",), ("c1", "c2"), ("c3", "c4"), ("c5", "c6"),
-                 ("c1", "c4"), ("c2", "c3"), ("c3", "c6"), ("c4", "c5"))
+ALLOWED_LIFTS = (
+    ("c1",),
+    ("c2",),
+    ("c3",),
+    ("c4",),
+    ("c5",),
+    ("c6",),
+    ("c1", "c2"),
+    ("c3", "c4"),
+    ("c5", "c6"),
+    ("c1", "c4"),
+    ("c2", "c3"),
+    ("c3", "c6"),
+    ("c4", "c5"),
+)
 NAMES = ("MC2", "MC3", "MC4", "MC5", "MC6", "MC7", "MC8", "MC9", "MC10", "MC11")
 INF = math.inf
 
@@ -38,8 +51,10 @@ def mc1_check(lifted) -> None:
         raise ValueError(f"lift {'+'.join(key)} names unknown wheel(s) {bad}; valid wheels: {', '.join(WHEELS)}")
     if key and key not in ALLOWED_LIFTS:
         allowed = ", ".join("+".join(a) for a in ALLOWED_LIFTS)
-        raise ValueError(f"lift {'+'.join(key)} violates MC#1 (at most two wheels, not front and rear together, "
-                         f"one per side); allowed lifts: {allowed}")
+        raise ValueError(
+            f"lift {'+'.join(key)} violates MC#1 (at most two wheels, not front and rear together, "
+            f"one per side); allowed lifts: {allowed}"
+        )
 
 
 def mc1_ok(lifted) -> bool:
@@ -81,10 +96,10 @@ class Scales:
 #: speed transitions took "approximately 4 s" (Task 8).
 THRESHOLDS: dict[str, tuple[float, ...]] = {
     #        MC2  MC3   MC4  MC5  MC6  MC7  MC8  MC9  MC10  MC11
-    "WRM":  (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
-    "WCM":  (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
+    "WRM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
+    "WCM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
     "RCLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
-    "RCM":  (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
+    "RCM": (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
     "SWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
     "DWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
 }

@@ -117,8 +117,9 @@ class Command:
 class RoverController:
     """The scripted operator's plan, executed through the saturated IK with the supervisor."""
 
-    def __init__(self, plan: list[Step], robot: RobotConfig, sup: SupervisorConfig, lim: IKLimits,
-                 sc: mc.Scales, ts: float):
+    def __init__(
+        self, plan: list[Step], robot: RobotConfig, sup: SupervisorConfig, lim: IKLimits, sc: mc.Scales, ts: float
+    ):
         for st in plan:
             if st.mode not in ("WRM", "WCM", "RCLM", "RCM"):
                 raise ValueError(f"mode={st.mode!r} is not implemented; valid: WRM, WCM, RCLM, RCM")
@@ -236,7 +237,14 @@ class RoverController:
             if self.sb >= self.sup.health_slip:
                 self.health_t = self.health_t if self.health_t is not None else obs.t
                 if obs.t - self.health_t >= self.sup.health_s:
-                    self.events.append(Transition(obs.t, self.mode, "HALT", f"health monitor: body slip {self.sb:.2f} >= {self.sup.health_slip}"))
+                    self.events.append(
+                        Transition(
+                            obs.t,
+                            self.mode,
+                            "HALT",
+                            f"health monitor: body slip {self.sb:.2f} >= {self.sup.health_slip}",
+                        )
+                    )
                     self.mode = "HALT"
                     self.stop = f"health halt: body slip {self.sb:.2f} >= {self.sup.health_slip}"
                     return self._command(obs, np.zeros(5), hold=True)
@@ -433,10 +441,19 @@ class RoverController:
                 spin = -self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
                 self._rim_cmd = spin * self.robot.wheel_radius
                 self.u_prev = np.zeros(5)
-                return Command(self.mu_cmd.copy(), spin, self.target.copy(), np.zeros(5), MODE_CODE.get(self.mode, 9),
-                               np.zeros(len(mc.NAMES)) if ratios is None else ratios, self.stop, self.k)
-        mu, spin = inverse_kinematics(self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted,
-                                      geom=getattr(self, "_geom", None))
+                return Command(
+                    self.mu_cmd.copy(),
+                    spin,
+                    self.target.copy(),
+                    np.zeros(5),
+                    MODE_CODE.get(self.mode, 9),
+                    np.zeros(len(mc.NAMES)) if ratios is None else ratios,
+                    self.stop,
+                    self.k,
+                )
+        mu, spin = inverse_kinematics(
+            self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
+        )
         # a wheel whose steering is far from its target waits (no rolling against its heading)
         err = np.abs(mu - obs.mu)
         if np.max(err) > 0.15 and np.any(np.abs(u[:3]) > 0):
@@ -445,5 +462,13 @@ class RoverController:
         self.target = self.target + u[3:5] * ts
         self._rim_cmd = spin * self.robot.wheel_radius
         self.u_prev = np.asarray(u, float).copy()
-        return Command(mu.copy(), spin, self.target.copy(), self.u_prev.copy(), MODE_CODE.get(self.mode, 9),
-                       np.zeros(len(mc.NAMES)) if ratios is None else ratios, self.stop, self.k)
+        return Command(
+            mu.copy(),
+            spin,
+            self.target.copy(),
+            self.u_prev.copy(),
+            MODE_CODE.get(self.mode, 9),
+            np.zeros(len(mc.NAMES)) if ratios is None else ratios,
+            self.stop,
+            self.k,
+        )

@@ -27,9 +27,24 @@ class SRWMREnvAdapter:
         self.progress_weight, self.energy_weight, self.success_bonus = progress_weight, energy_weight, success_bonus
 
     def observation_space(self, task) -> spaces.Dict:
-        return spaces.Dict({"delta": _box(2), "ddelta": _box(2), "phi": _box(2), "zeta": _box(2), "mu": _box(6),
-                            "spin": _box(6), "tau": _box(6), "load": _box(6), "rpy": _box(3), "gyro": _box(3),
-                            "xy": _box(2), "yaw": _box(1), "v_body": _box(2), "time": _box(1)})
+        return spaces.Dict(
+            {
+                "delta": _box(2),
+                "ddelta": _box(2),
+                "phi": _box(2),
+                "zeta": _box(2),
+                "mu": _box(6),
+                "spin": _box(6),
+                "tau": _box(6),
+                "load": _box(6),
+                "rpy": _box(3),
+                "gyro": _box(3),
+                "xy": _box(2),
+                "yaw": _box(1),
+                "v_body": _box(2),
+                "time": _box(1),
+            }
+        )
 
     def action_space(self, task) -> spaces.Box:
         lo_d, hi_d = task.cfg.limits.delta_range
@@ -44,10 +59,22 @@ class SRWMREnvAdapter:
         self._x = float(task.data.xpos[task.chassis, 0])
 
     def observation(self, obs) -> dict[str, np.ndarray]:
-        return {"delta": np.array(obs.delta, float), "ddelta": np.array(obs.ddelta, float), "phi": np.array(obs.phi),
-                "zeta": np.array(obs.zeta), "mu": np.array(obs.mu), "spin": np.array(obs.spin), "tau": np.array(obs.tau),
-                "load": np.array(obs.load), "rpy": np.array(obs.rpy), "gyro": np.array(obs.gyro), "xy": np.array(obs.xy),
-                "yaw": np.array([obs.yaw]), "v_body": np.array(obs.v_body), "time": np.array([obs.t])}
+        return {
+            "delta": np.array(obs.delta, float),
+            "ddelta": np.array(obs.ddelta, float),
+            "phi": np.array(obs.phi),
+            "zeta": np.array(obs.zeta),
+            "mu": np.array(obs.mu),
+            "spin": np.array(obs.spin),
+            "tau": np.array(obs.tau),
+            "load": np.array(obs.load),
+            "rpy": np.array(obs.rpy),
+            "gyro": np.array(obs.gyro),
+            "xy": np.array(obs.xy),
+            "yaw": np.array([obs.yaw]),
+            "v_body": np.array(obs.v_body),
+            "time": np.array([obs.t]),
+        }
 
     def command(self, action, task) -> Command:
         a = np.asarray(action, dtype=np.float64)
@@ -58,8 +85,11 @@ class SRWMREnvAdapter:
 
     def reward(self, prev, obs, energy: float, status: str):
         x = float(self._task.data.xpos[self._task.chassis, 0])
-        terms = {"progress": self.progress_weight * (x - self._x), "energy": -self.energy_weight * float(energy),
-                 "success": self.success_bonus if status == "success" else 0.0}
+        terms = {
+            "progress": self.progress_weight * (x - self._x),
+            "energy": -self.energy_weight * float(energy),
+            "success": self.success_bonus if status == "success" else 0.0,
+        }
         self._x = x
         return sum(terms.values()), terms
 

@@ -54,8 +54,16 @@ class IKState:
     u_prev: np.ndarray
 
 
-def build_qp(cfg: RobotConfig, st: IKState, kappa: np.ndarray, sc: mc.Scales, lim: IKLimits, ts: float,
-             J: np.ndarray | None = None, wb: np.ndarray | None = None):
+def build_qp(
+    cfg: RobotConfig,
+    st: IKState,
+    kappa: np.ndarray,
+    sc: mc.Scales,
+    lim: IKLimits,
+    ts: float,
+    J: np.ndarray | None = None,
+    wb: np.ndarray | None = None,
+):
     """(G, h, lb, ub) of one control step. Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4, MC7 x2, MC8 x2, MC9 x2."""
     d = st.delta
     J = rocker_jacobian(cfg, d) if J is None else J
@@ -117,8 +125,15 @@ class SaturatedIK:
         self.active = 0  # steps where the projection changed the command
         self.inside = 0  # steps whose nominal command was already feasible (no solver call)
 
-    def solve(self, u_nom: np.ndarray, st: IKState, kappa: np.ndarray, J: np.ndarray | None = None,
-              wb: np.ndarray | None = None, always: bool = False) -> np.ndarray | None:
+    def solve(
+        self,
+        u_nom: np.ndarray,
+        st: IKState,
+        kappa: np.ndarray,
+        J: np.ndarray | None = None,
+        wb: np.ndarray | None = None,
+        always: bool = False,
+    ) -> np.ndarray | None:
         """u* or None when infeasible (``J``, ``wb``: the rocker Jacobian and wheelbases at
         ``st.delta`` if already known). A nominal command inside the set is the QP's own optimum
         and is returned without calling the solver (``always``: call it anyway, for timing)."""
@@ -142,5 +157,10 @@ class SaturatedIK:
         t = np.asarray(self.times) * 1e6
         if not len(t):
             return {"qp_n": 0, "qp_inside": self.inside, "qp_median_us": float("nan"), "qp_p99_us": float("nan")}
-        return {"qp_n": int(len(t)), "qp_inside": self.inside, "qp_median_us": float(np.median(t)),
-                "qp_p99_us": float(np.percentile(t, 99)), "qp_active_share": self.active / len(t)}
+        return {
+            "qp_n": int(len(t)),
+            "qp_inside": self.inside,
+            "qp_median_us": float(np.median(t)),
+            "qp_p99_us": float(np.percentile(t, 99)),
+            "qp_active_share": self.active / len(t),
+        }

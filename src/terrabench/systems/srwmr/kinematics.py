@@ -49,7 +49,7 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
     e = cfg.wheel_offset * _SIGN
     lat = cfg.steer_y - cfg.hinge_track / 2
     out = np.empty((6, 3))
-    for k, s in enumerate((0, 1)):
+    for s in (0, 1):
         yh = (1 if s == 0 else -1) * cfg.hinge_track / 2
         # rear section: q = -delta + phi; pivot then bogie (q + zeta)
         qr = -delta[s] + phi[s]
@@ -226,8 +226,7 @@ def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, l
     return mu, spin
 
 
-def forward_kinematics(cfg: RobotConfig, spin, mu, delta, ddelta=(0.0, 0.0), grounded=None,
-                       mu_geom=None) -> np.ndarray:
+def forward_kinematics(cfg: RobotConfig, spin, mu, delta, ddelta=(0.0, 0.0), grounded=None, mu_geom=None) -> np.ndarray:
     """Body twist (vx, vy, wz) explaining wheel spins (rad/s) and steering angles (rad) of the
     grounded wheels, rolling without slip, given the rocker rates (least squares). ``mu_geom``:
     the steering angles that place the offset contact points (default ``mu``)."""

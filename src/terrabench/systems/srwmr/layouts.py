@@ -16,15 +16,22 @@ import numpy as np
 from terrabench.systems.srwmr.control import Step
 from terrabench.systems.srwmr.robot import RobotConfig
 
-TASKS = ("t1-very-loose", "t1-loose", "t3-rclm", "t4-sinkage", "t5-slope10", "t8-speeds", "t11-slope15",
-         "t14-obstacle")
+TASKS = ("t1-very-loose", "t1-loose", "t3-rclm", "t4-sinkage", "t5-slope10", "t8-speeds", "t11-slope15", "t14-obstacle")
 SLOPE_ANGLES = (0, 5, 10, 15, 20, 25)
 SLOPE_SOILS = ("very_loose", "loose")
 SLOPES = tuple(f"slope-{a}-{s}" for s in SLOPE_SOILS for a in SLOPE_ANGLES)
 #: methods that apply to each instance (the paper ran one or two modes per task)
-APPLIES = {"t1-very-loose": ("wrm",), "t1-loose": ("wrm",), "t3-rclm": ("rclm",), "t4-sinkage": ("rcm", "wrm"),
-           "t5-slope10": ("rcm", "wrm"), "t8-speeds": ("wrm",), "t11-slope15": ("wrm", "rcm"),
-           "t14-obstacle": ("wrm", "wcm", "rclm"), **{s: ("wrm", "rcm") for s in SLOPES}}
+APPLIES = {
+    "t1-very-loose": ("wrm",),
+    "t1-loose": ("wrm",),
+    "t3-rclm": ("rclm",),
+    "t4-sinkage": ("rcm", "wrm"),
+    "t5-slope10": ("rcm", "wrm"),
+    "t8-speeds": ("wrm",),
+    "t11-slope15": ("wrm", "rcm"),
+    "t14-obstacle": ("wrm", "wcm", "rclm"),
+    **{s: ("wrm", "rcm") for s in SLOPES},
+}
 #: T14 obstacle (m): length along the path, width, height [S 150 x 550 x 190 mm]; margin [S 300 mm]
 OBSTACLE = (0.15, 0.55, 0.19)
 MARGIN = 0.3
@@ -83,21 +90,44 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
     flat = ((-50.0, 0.0), (50.0, 0.0))
     if instance in ("t1-very-loose", "t1-loose"):
         soil = "very_loose" if "very" in instance else "loose"
-        return Layout(flat, (), soil, (Step("WRM", v=0.025, dist=1.5),), None, 150.0,
-                      note="WRM 25 mm/s straight [S Task 1]; the paper ran 153.82 s commanded")
+        return Layout(
+            flat,
+            (),
+            soil,
+            (Step("WRM", v=0.025, dist=1.5),),
+            None,
+            150.0,
+            note="WRM 25 mm/s straight [S Task 1]; the paper ran 153.82 s commanded",
+        )
     if instance == "t3-rclm":
-        plan = (Step("RCLM", v=0.0, clearance=0.33), Step("WRM", v=0.025, dist=0.4), Step("RCLM", v=0.0, clearance=0.48),
-                Step("WRM", v=0.025, dist=0.4), Step("RCLM", v=0.0, clearance=0.25))
+        plan = (
+            Step("RCLM", v=0.0, clearance=0.33),
+            Step("WRM", v=0.025, dist=0.4),
+            Step("RCLM", v=0.0, clearance=0.48),
+            Step("WRM", v=0.025, dist=0.4),
+            Step("RCLM", v=0.0, clearance=0.25),
+        )
         return Layout(flat, (), "loose", plan, None, 600.0, note="RCLM 250 -> 330 -> 480 -> 250 mm [S Task 3]")
     if instance == "t4-sinkage":
         depth = 0.12
         wall = 1.0 + depth / math.tan(math.radians(20))
         prof = ((-20.0, -depth), (1.05, -depth), (wall, 0.0), (30.0, 0.0))
         goal = wall + 0.2
-        plan = ((Step("RCM", v=0.025, cycles=999, amp=0.45, until_x=goal),) if method == "rcm"
-                else (Step("WRM", v=0.025, dist=5.0, until_x=goal),))
-        return Layout(prof, (), "very_loose", plan, goal, 600.0, z0=-depth,
-                      note="start in a 120 mm pit with 20 deg walls of very loose soil [R for 'all wheels sunk']")
+        plan = (
+            (Step("RCM", v=0.025, cycles=999, amp=0.45, until_x=goal),)
+            if method == "rcm"
+            else (Step("WRM", v=0.025, dist=5.0, until_x=goal),)
+        )
+        return Layout(
+            prof,
+            (),
+            "very_loose",
+            plan,
+            goal,
+            600.0,
+            z0=-depth,
+            note="start in a 120 mm pit with 20 deg walls of very loose soil [R for 'all wheels sunk']",
+        )
     if instance in ("t5-slope10", "t11-slope15") or instance.startswith("slope-"):
         if instance.startswith("slope-"):
             _, deg_s, soil = instance.split("-", 2)
@@ -109,10 +139,21 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
         if instance == "t11-slope15":
             goal = foot + a + r + 0.1  # every wheel on the slope [S 'all wheels reached the slope']
         v = 0.025
-        plan = ((Step("WRM", v=v, dist=10.0, until_x=goal, auto_rcm=True),) if method == "rcm"
-                else (Step("WRM", v=v, dist=10.0, until_x=goal),))
-        return Layout(ramp(foot, deg), (), soil, plan, goal, timeout, slope_deg=deg,
-                      note=f"flat approach then a {deg:g} deg slope of {soil} soil")
+        plan = (
+            (Step("WRM", v=v, dist=10.0, until_x=goal, auto_rcm=True),)
+            if method == "rcm"
+            else (Step("WRM", v=v, dist=10.0, until_x=goal),)
+        )
+        return Layout(
+            ramp(foot, deg),
+            (),
+            soil,
+            plan,
+            goal,
+            timeout,
+            slope_deg=deg,
+            note=f"flat approach then a {deg:g} deg slope of {soil} soil",
+        )
     if instance == "t8-speeds":
         plan = tuple(Step("WRM", v=v, dist=v * 60.0) for v in (0.005, 0.015, 0.025, 0.015, 0.005))
         return Layout(flat, (), "loose", plan, None, 400.0, note="WRM 5/15/25/15/5 mm/s, 60 s each [S Task 8]")
@@ -124,16 +165,31 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
         box = ((near + L / 2, 0.0, L / 2, W / 2, H / 2),)
         v = 0.015
         if method == "rclm":
-            plan = (Step("RCLM", v=0.0, clearance=0.33), Step("WRM", v=v, dist=10.0, until_x=end),
-                    Step("RCLM", v=0.0, clearance=0.25))
+            plan = (
+                Step("RCLM", v=0.0, clearance=0.33),
+                Step("WRM", v=v, dist=10.0, until_x=end),
+                Step("RCLM", v=0.0, clearance=0.25),
+            )
         elif method == "wcm":
             dy = W / 2 + MARGIN + robot.track / 2 + robot.wheel_width / 2
             plan = (Step("WCM", v=v, dy=dy), Step("WRM", v=v, dist=10.0, until_x=end), Step("WCM", v=v, dy=-dy))
         else:
             side = W / 2 + MARGIN + robot.track / 2 + robot.wheel_width / 2
-            wps = ((near - 1.0, 0.0), (near - 0.2, side * 0.8), (near + L / 2, side), (far + 0.2, side * 0.8),
-                   (end, 0.0))
+            wps = (
+                (near - 1.0, 0.0),
+                (near - 0.2, side * 0.8),
+                (near + L / 2, side),
+                (far + 0.2, side * 0.8),
+                (end, 0.0),
+            )
             plan = (Step("WRM", v=v, waypoints=wps),)
-        return Layout(flat, box, "loose", plan, end, 900.0,
-                      note="obstacle 150 x 550 x 190 mm at 15 mm/s, start/end 300 mm from it [S Task 14]")
+        return Layout(
+            flat,
+            box,
+            "loose",
+            plan,
+            end,
+            900.0,
+            note="obstacle 150 x 550 x 190 mm at 15 mm/s, start/end 300 mm from it [S Task 14]",
+        )
     raise ValueError(f"unknown srwmr instance {instance!r}; valid: {', '.join(TASKS + SLOPES)}")

@@ -75,13 +75,20 @@ def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
     moving = np.isfinite(vc) & (np.abs(vc) > 1e-4)
     slip = col("slip")
     out = {
-        "distance": path_length(x, y), "progress": float(x[-1] - x_start), "climb": float(z[-1] - z_start),
-        "energy_kJ": log.energy / 1000.0, "body_slip": body_slip(v, vc),
+        "distance": path_length(x, y),
+        "progress": float(x[-1] - x_start),
+        "climb": float(z[-1] - z_start),
+        "energy_kJ": log.energy / 1000.0,
+        "body_slip": body_slip(v, vc),
         "wheel_slip": float(np.nanmean(slip[moving])) if moving.any() else float("nan"),
         "sinkage": float(np.nanmean(col("sinkage"))),
-        "W_mean": float(np.nanmean(W)), "W_diff_max": float(np.nanmax(wd)), "W_fmr_max": float(np.nanmax(wf)),
+        "W_mean": float(np.nanmean(W)),
+        "W_diff_max": float(np.nanmax(wd)),
+        "W_fmr_max": float(np.nanmax(wf)),
         "PC": drawbar_coefficient(col("DP")[moving], W.sum(axis=1)[moving]) if moving.any() else float("nan"),
-        "PE": traction_efficiency(col("DP")[moving], v[moving], col("P_drive")[moving]) if moving.any() else float("nan"),
+        "PE": traction_efficiency(col("DP")[moving], v[moving], col("P_drive")[moving])
+        if moving.any()
+        else float("nan"),
         "mean_power_W": float(np.nanmean(np.diff(log.data[:, -1])) / log.period) if len(log.data) > 1 else float("nan"),
     }
     for n in mc.NAMES:

@@ -24,8 +24,10 @@ PAPER = {
     ("t14-obstacle", "rclm"): "2800 mm, 249 s, 49 kJ",
 }
 T14_PAPER = {"wrm": (4634, 401, 97), "wcm": (3166, 358, 77), "rclm": (2800, 249, 49), "swlm": (2800, 859, 36)}
-OPERATOR = ("The 'operator' is scripted per scenario: it answers every reminder after supervisor.reply_s "
-            "(default 2 s), which ends the current action; the plan (layouts.py) is the paper's action sequence.")
+OPERATOR = (
+    "The 'operator' is scripted per scenario: it answers every reminder after supervisor.reply_s "
+    "(default 2 s), which ends the current action; the plan (layouts.py) is the paper's action sequence."
+)
 
 
 def _mean(rs, key):
@@ -47,12 +49,24 @@ def task_lines(rows) -> list[dict[str, Any]]:
         st: dict[str, int] = {}
         for r in rs:
             st[r["status"]] = st.get(r["status"], 0) + 1
-        lines.append({"task": inst, "mode": meth, "n": len(rs), "statuses": ", ".join(f"{k} {v}" for k, v in sorted(st.items())),
-                      "body slip": _mean(rs, "body_slip"), "wheel slip": _mean(rs, "wheel_slip"),
-                      "progress m": _mean(rs, "progress"), "distance m": _mean(rs, "distance"),
-                      "time s": _mean(rs, "sim_time"), "energy kJ": _mean(rs, "energy_kJ"),
-                      "W_diff max N": _mean(rs, "W_diff_max"), "W_fmr max N": _mean(rs, "W_fmr_max"),
-                      "MC3 max": _mean(rs, "max_eta_MC3"), "paper": PAPER.get((inst, meth), "")})
+        lines.append(
+            {
+                "task": inst,
+                "mode": meth,
+                "n": len(rs),
+                "statuses": ", ".join(f"{k} {v}" for k, v in sorted(st.items())),
+                "body slip": _mean(rs, "body_slip"),
+                "wheel slip": _mean(rs, "wheel_slip"),
+                "progress m": _mean(rs, "progress"),
+                "distance m": _mean(rs, "distance"),
+                "time s": _mean(rs, "sim_time"),
+                "energy kJ": _mean(rs, "energy_kJ"),
+                "W_diff max N": _mean(rs, "W_diff_max"),
+                "W_fmr max N": _mean(rs, "W_fmr_max"),
+                "MC3 max": _mean(rs, "max_eta_MC3"),
+                "paper": PAPER.get((inst, meth), ""),
+            }
+        )
     return lines
 
 
@@ -62,12 +76,20 @@ def t14_lines(rows) -> list[dict[str, Any]]:
     for meth in ("wrm", "wcm", "rclm", "swlm"):
         rs = g.get(("t14-obstacle", meth), [])
         pd, pt, pe = T14_PAPER[meth]
-        lines.append({"mode": meth, "n": len(rs), "success": sum(r["status"] == "success" for r in rs),
-                      "distance mm": 1000 * _mean(rs, "distance") if rs else float("nan"),
-                      "time s": _mean(rs, "sim_time") if rs else float("nan"),
-                      "energy kJ": _mean(rs, "energy_kJ") if rs else float("nan"),
-                      "paper distance mm": pd, "paper time s": pt, "paper energy kJ": pe,
-                      "note": "" if rs else "not run (SWLM not implemented)"})
+        lines.append(
+            {
+                "mode": meth,
+                "n": len(rs),
+                "success": sum(r["status"] == "success" for r in rs),
+                "distance mm": 1000 * _mean(rs, "distance") if rs else float("nan"),
+                "time s": _mean(rs, "sim_time") if rs else float("nan"),
+                "energy kJ": _mean(rs, "energy_kJ") if rs else float("nan"),
+                "paper distance mm": pd,
+                "paper time s": pt,
+                "paper energy kJ": pe,
+                "note": "" if rs else "not run (SWLM not implemented)",
+            }
+        )
     return lines
 
 
@@ -75,10 +97,18 @@ def slope_lines(rows) -> list[dict[str, Any]]:
     lines = []
     for (inst, meth), rs in sorted(group([r for r in rows if r["instance"].startswith("slope-")]).items()):
         _, deg, soil = inst.split("-", 2)
-        lines.append({"soil": soil, "slope deg": int(deg), "mode": meth, "n": len(rs),
-                      "success rate": sum(r["status"] == "success" for r in rs) / len(rs),
-                      "body slip": _mean(rs, "body_slip"), "progress m": _mean(rs, "progress"),
-                      "time s": _mean(rs, "sim_time")})
+        lines.append(
+            {
+                "soil": soil,
+                "slope deg": int(deg),
+                "mode": meth,
+                "n": len(rs),
+                "success rate": sum(r["status"] == "success" for r in rs) / len(rs),
+                "body slip": _mean(rs, "body_slip"),
+                "progress m": _mean(rs, "progress"),
+                "time s": _mean(rs, "sim_time"),
+            }
+        )
     return sorted(lines, key=lambda d: (d["soil"], d["mode"], d["slope deg"]))
 
 
@@ -113,10 +143,12 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
     page = Page(out_dir, "HIT-MRII reconfigurable rover (srwmr)")
     page.p(OPERATOR)
     page.h2("Soil calibration (the only fit: T1)")
-    page.p(f"very loose: k_phi fitted = {FIT_K_PHI_VERY_LOOSE / 1e3:.1f} kN/m^3 so that the zero-pull slip of a "
-           f"368 N wheel is {TARGETS['very_loose']} (T1 range {T1_RANGES['very_loose']}); loose: K fitted = "
-           f"{FIT_K_LOOSE * 1000:.2f} mm (k_phi 1528 kN/m^3) for {TARGETS['loose']} (T1 range {T1_RANGES['loose']}). "
-           "Every other task is a prediction.")
+    page.p(
+        f"very loose: k_phi fitted = {FIT_K_PHI_VERY_LOOSE / 1e3:.1f} kN/m^3 so that the zero-pull slip of a "
+        f"368 N wheel is {TARGETS['very_loose']} (T1 range {T1_RANGES['very_loose']}); loose: K fitted = "
+        f"{FIT_K_LOOSE * 1000:.2f} mm (k_phi 1528 kN/m^3) for {TARGETS['loose']} (T1 range {T1_RANGES['loose']}). "
+        "Every other task is a prediction."
+    )
     task_rows = [r for r in rows if not r["instance"].startswith("slope-")]
     lines = task_lines(task_rows)
     page.h2("Tasks: ours beside the paper")
@@ -125,12 +157,24 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
     t14 = t14_lines(rows)
     page.table(t14, list(t14[0]), csv_name="t14.csv")
     ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
-    page.p("energy ordering, ours (least first): " + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
-           + "; paper: swlm < rclm < wcm < wrm")
+    page.p(
+        "energy ordering, ours (least first): "
+        + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
+        + "; paper: swlm < rclm < wcm < wrm"
+    )
     page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
-    qp = [{"task": r["instance"], "mode": r["method"], "seed": r["seed"], "solves": r["info"].get("qp_n"),
-           "median us": r["info"].get("qp_median_us"), "p99 us": r["info"].get("qp_p99_us"),
-           "active share": r["info"].get("qp_active_share")} for r in task_rows]
+    qp = [
+        {
+            "task": r["instance"],
+            "mode": r["method"],
+            "seed": r["seed"],
+            "solves": r["info"].get("qp_n"),
+            "median us": r["info"].get("qp_median_us"),
+            "p99 us": r["info"].get("qp_p99_us"),
+            "active share": r["info"].get("qp_active_share"),
+        }
+        for r in task_rows
+    ]
     if qp:
         page.table(qp, list(qp[0]), csv_name="qp_timing.csv")
     sl = slope_lines(rows)
@@ -141,10 +185,15 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         for soil in sorted({d["soil"] for d in sl}):
             for meth in sorted({d["mode"] for d in sl}):
                 pts = [d for d in sl if d["soil"] == soil and d["mode"] == meth]
-                ax[0].plot([d["slope deg"] for d in pts], [d["success rate"] for d in pts], "o-", label=f"{meth} {soil}")
+                ax[0].plot(
+                    [d["slope deg"] for d in pts], [d["success rate"] for d in pts], "o-", label=f"{meth} {soil}"
+                )
                 ax[1].plot([d["slope deg"] for d in pts], [d["body slip"] for d in pts], "o-", label=f"{meth} {soil}")
-        ax[0].set_xlabel("slope deg"); ax[0].set_ylabel("success rate"); ax[1].set_xlabel("slope deg")
-        ax[1].set_ylabel("body slip"); ax[0].legend(fontsize="small")
+        ax[0].set_xlabel("slope deg")
+        ax[0].set_ylabel("success rate")
+        ax[1].set_xlabel("slope deg")
+        ax[1].set_ylabel("body slip")
+        ax[0].legend(fontsize="small")
         fig.tight_layout()
         page.figure(fig, "slopes.png", "success rate and body slip vs slope")
         plt.close(fig)
@@ -163,11 +212,14 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         vc = np.asarray(ts["v_cmd"], float)
         with np.errstate(divide="ignore", invalid="ignore"):
             sb = np.where(np.abs(vc) > 1e-4, 1 - np.asarray(ts["v"]) / vc, np.nan)
-        ax[0].plot(t, sb, label="body slip s_b"); ax[0].plot(t, ts["slip"], label="wheel slip (mean)")
-        ax[0].set_ylim(-1, 1.2); ax[0].legend(fontsize="small")
+        ax[0].plot(t, sb, label="body slip s_b")
+        ax[0].plot(t, ts["slip"], label="wheel slip (mean)")
+        ax[0].set_ylim(-1, 1.2)
+        ax[0].legend(fontsize="small")
         for c in ("c1", "c2", "c3", "c4", "c5", "c6"):
             ax[1].plot(t, ts[f"W_{c}"], lw=0.8, label=c)
-        ax[1].set_ylabel("wheel load N"); ax[1].legend(fontsize="x-small", ncol=6)
+        ax[1].set_ylabel("wheel load N")
+        ax[1].legend(fontsize="x-small", ncol=6)
         from terrabench.systems.srwmr.constraints import NAMES, thresholds
 
         mode = {"wrm": "WRM", "wcm": "WCM", "rclm": "RCLM", "rcm": "RCM"}[meth]
@@ -176,7 +228,9 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
             e = np.asarray(ts[f"eta_{n}"], float)
             if np.nanmax(np.abs(e)) > 1e-3 if np.isfinite(e).any() else False:
                 ax[2].plot(t, e, lw=0.8, label=f"{n} (kappa {kap[i]:.2f})")
-        ax[2].set_ylabel("ratio eta"); ax[2].set_xlabel("t s"); ax[2].legend(fontsize="x-small", ncol=3)
+        ax[2].set_ylabel("ratio eta")
+        ax[2].set_xlabel("t s")
+        ax[2].legend(fontsize="x-small", ncol=3)
         fig.suptitle(f"{inst} / {meth} seed {r0['seed']}: {r0['status']} ({r0['info'].get('reason', '')})")
         fig.tight_layout()
         page.figure(fig, f"ts_{inst}_{meth}.png", f"{inst} / {meth}: slip, wheel loads (truth), constraint ratios")

@@ -63,44 +63,59 @@ class RobotConfig:
         rocker_range: rocker_s joint range (rad) (closing = negative).
     """
 
-    wheel_radius: float = 0.15          # range: [0.05, 0.5] m
-    wheel_width: float = 0.12           # range: [0.03, 0.4] m
-    track: float = 1.304                # range: [0.6, 2.5] m
-    hinge_track: float = 0.83           # range: [0.3, 1.5] m
-    front_len: float = 0.775            # range: [0.3, 1.5] m
-    rear_len: float = 0.3907            # range: [0.2, 1.0] m
-    bogie_half: float = 0.3875          # range: [0.16, 0.8] m (> wheel radius)
-    wheel_offset: float = 0.10          # range: [0, 0.3] m
-    pillar_front: float = 0.25          # range: [0.1, 0.6] m
+    wheel_radius: float = 0.15  # range: [0.05, 0.5] m
+    wheel_width: float = 0.12  # range: [0.03, 0.4] m
+    track: float = 1.304  # range: [0.6, 2.5] m
+    hinge_track: float = 0.83  # range: [0.3, 1.5] m
+    front_len: float = 0.775  # range: [0.3, 1.5] m
+    rear_len: float = 0.3907  # range: [0.2, 1.0] m
+    bogie_half: float = 0.3875  # range: [0.16, 0.8] m (> wheel radius)
+    wheel_offset: float = 0.10  # range: [0, 0.3] m
+    pillar_front: float = 0.25  # range: [0.1, 0.6] m
     chassis_size: tuple[float, float, float] = (0.6, 0.35, 0.15)  # range: each in [0.05, 1.5] m
-    chassis_mass: float = 155.0         # range: (0, 1000] kg
-    link_mass: float = 5.0              # range: (0, 50] kg
-    bogie_mass: float = 6.0             # range: (0, 50] kg
-    pillar_mass: float = 2.0            # range: (0, 20] kg
-    wheel_mass: float = 4.0             # range: (0, 20] kg
-    diff_mass: float = 1.0              # range: (0, 10] kg
-    z_ratio: float = 1.0 / 2.2          # range: (0, 2]
-    rocker_kp: float = 3.0e4            # range: (0, 1e6] N m/rad
-    rocker_kv: float = 3.0e3            # range: [0, 1e5] N m s/rad
-    rocker_torque: float = 2000.0       # range: (0, 1e4] N m
-    steer_kp: float = 800.0             # range: (0, 1e5] N m/rad
-    steer_kv: float = 80.0              # range: [0, 1e4] N m s/rad
-    steer_torque: float = 200.0         # range: (0, 1e4] N m
-    drive_kv: float = 5000.0            # range: (0, 1e5] N m s/rad
-    drive_torque: float = 120.0         # range: (0, 1e4] N m
-    pivot_damping: float = 200.0        # range: [0, 1e4] N m s/rad (bogie and differential pivots)
-    drive_armature: float = 1.0         # range: [0.01, 10] kg m^2 (geared motor's reflected inertia)
+    chassis_mass: float = 155.0  # range: (0, 1000] kg
+    link_mass: float = 5.0  # range: (0, 50] kg
+    bogie_mass: float = 6.0  # range: (0, 50] kg
+    pillar_mass: float = 2.0  # range: (0, 20] kg
+    wheel_mass: float = 4.0  # range: (0, 20] kg
+    diff_mass: float = 1.0  # range: (0, 10] kg
+    z_ratio: float = 1.0 / 2.2  # range: (0, 2]
+    rocker_kp: float = 3.0e4  # range: (0, 1e6] N m/rad
+    rocker_kv: float = 3.0e3  # range: [0, 1e5] N m s/rad
+    rocker_torque: float = 2000.0  # range: (0, 1e4] N m
+    steer_kp: float = 800.0  # range: (0, 1e5] N m/rad
+    steer_kv: float = 80.0  # range: [0, 1e4] N m s/rad
+    steer_torque: float = 200.0  # range: (0, 1e4] N m
+    drive_kv: float = 5000.0  # range: (0, 1e5] N m s/rad
+    drive_torque: float = 120.0  # range: (0, 1e4] N m
+    pivot_damping: float = 200.0  # range: [0, 1e4] N m s/rad (bogie and differential pivots)
+    drive_armature: float = 1.0  # range: [0.01, 10] kg m^2 (geared motor's reflected inertia)
     rocker_range: tuple[float, float] = (-1.2, 0.5)  # range: lower < 0 < upper, rad
 
     def __post_init__(self) -> None:
-        for name in ("wheel_radius", "wheel_width", "track", "hinge_track", "front_len", "rear_len", "bogie_half",
-                     "pillar_front", "chassis_mass", "wheel_mass", "z_ratio", "drive_kv", "drive_torque"):
+        for name in (
+            "wheel_radius",
+            "wheel_width",
+            "track",
+            "hinge_track",
+            "front_len",
+            "rear_len",
+            "bogie_half",
+            "pillar_front",
+            "chassis_mass",
+            "wheel_mass",
+            "z_ratio",
+            "drive_kv",
+            "drive_torque",
+        ):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"robot.{name}={v!r} is invalid; valid: a positive finite number")
         if self.bogie_half <= self.wheel_radius:
-            raise ValueError(f"robot.bogie_half={self.bogie_half!r} is invalid; valid: > wheel_radius "
-                             f"{self.wheel_radius} m (the middle and rear wheels would overlap)")
+            raise ValueError(
+                f"robot.bogie_half={self.bogie_half!r} is invalid; valid: > wheel_radius "
+                f"{self.wheel_radius} m (the middle and rear wheels would overlap)"
+            )
         if not (0 <= self.wheel_offset <= 0.3):
             raise ValueError(f"robot.wheel_offset={self.wheel_offset!r} is invalid; valid range: [0, 0.3] m")
         if not (self.rear_len > self.bogie_half):
@@ -138,8 +153,11 @@ class RobotConfig:
 
     @property
     def total_mass(self) -> float:
-        return (self.chassis_mass + 2 * (self.diff_mass + 2 * self.link_mass + self.bogie_mass)
-                + 6 * (self.pillar_mass + self.wheel_mass))
+        return (
+            self.chassis_mass
+            + 2 * (self.diff_mass + 2 * self.link_mass + self.bogie_mass)
+            + 6 * (self.pillar_mass + self.wheel_mass)
+        )
 
 
 class Names:
@@ -153,60 +171,119 @@ class Names:
     DIFF_EQ = "differential"
 
     @staticmethod
-    def diff(s: str) -> str: return f"diff_{s}"
+    def diff(s: str) -> str:
+        return f"diff_{s}"
+
     @staticmethod
-    def rocker(s: str) -> str: return f"rocker_{s}"
+    def rocker(s: str) -> str:
+        return f"rocker_{s}"
+
     @staticmethod
-    def rear(s: str) -> str: return f"rear_{s}"
+    def rear(s: str) -> str:
+        return f"rear_{s}"
+
     @staticmethod
-    def front(s: str) -> str: return f"front_{s}"
+    def front(s: str) -> str:
+        return f"front_{s}"
+
     @staticmethod
-    def bogie(s: str) -> str: return f"bogie_{s}"
+    def bogie(s: str) -> str:
+        return f"bogie_{s}"
+
     @staticmethod
-    def couple(s: str) -> str: return f"couple_{s}"
+    def couple(s: str) -> str:
+        return f"couple_{s}"
+
     @staticmethod
-    def clutch(s: str) -> str: return f"clutch_{s}"
+    def clutch(s: str) -> str:
+        return f"clutch_{s}"
+
     @staticmethod
-    def pillar(c: str) -> str: return f"pillar_{c}"
+    def pillar(c: str) -> str:
+        return f"pillar_{c}"
+
     @staticmethod
-    def steer(c: str) -> str: return f"steer_{c}"
+    def steer(c: str) -> str:
+        return f"steer_{c}"
+
     @staticmethod
-    def wheel(c: str) -> str: return f"wheel_{c}"
+    def wheel(c: str) -> str:
+        return f"wheel_{c}"
+
     @staticmethod
-    def drive(c: str) -> str: return f"drive_{c}"
+    def drive(c: str) -> str:
+        return f"drive_{c}"
+
     @staticmethod
-    def ft(c: str) -> str: return f"ft_{c}"
+    def ft(c: str) -> str:
+        return f"ft_{c}"
 
 
 def _cap(body, p0, p1, radius, mass, rgba, contype=LINK_BIT):
-    body.add_geom(type=mujoco.mjtGeom.mjGEOM_CAPSULE, fromto=list(p0) + list(p1), size=[radius, 0, 0], mass=mass,
-                  contype=contype, conaffinity=0, rgba=rgba)
+    body.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+        fromto=list(p0) + list(p1),
+        size=[radius, 0, 0],
+        mass=mass,
+        contype=contype,
+        conaffinity=0,
+        rgba=rgba,
+    )
 
 
 def _pillar_and_wheel(parent, c: str, pos, length: float, cfg: RobotConfig, spec: mujoco.MjSpec) -> None:
     side = 1.0 if WHEEL_SIDE[WHEELS.index(c)] == "L" else -1.0
     pb = parent.add_body(name=Names.pillar(c), pos=list(pos))
-    pb.add_joint(name=Names.steer(c), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1], range=[-1.75, 1.75],
-                 armature=0.5, damping=5.0)
+    pb.add_joint(
+        name=Names.steer(c),
+        type=mujoco.mjtJoint.mjJNT_HINGE,
+        axis=[0, 0, 1],
+        range=[-1.75, 1.75],
+        armature=0.5,
+        damping=5.0,
+    )
     e = side * cfg.wheel_offset
     _cap(pb, (0, 0, 0), (0, e, 0), 0.03, 0.3 * cfg.pillar_mass, [0.3, 0.3, 0.35, 1])
     _cap(pb, (0, e, 0), (0, e, -length + 0.06), 0.03, 0.7 * cfg.pillar_mass, [0.3, 0.3, 0.35, 1])
     pb.add_site(name=Names.ft(c), pos=[0, 0, 0])
     wb = pb.add_body(name=Names.wheel(c), pos=[0, e, -length])
     wb.add_joint(name=Names.drive(c), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0], armature=cfg.drive_armature)
-    wb.add_geom(name=Names.wheel(c), type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-                size=[cfg.wheel_radius, cfg.wheel_width / 2, 0], quat=[math.sqrt(0.5), math.sqrt(0.5), 0, 0],
-                mass=cfg.wheel_mass, contype=WHEEL_BIT, conaffinity=0, friction=[0.8, 0.005, 0.0001],
-                rgba=[0.15, 0.15, 0.15, 1])
-    wb.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.02, cfg.wheel_width / 2 + 0.002, cfg.wheel_radius * 0.9],
-                mass=0.01, contype=0, conaffinity=0, rgba=[0.8, 0.6, 0.1, 1])  # spoke: shows spin
-    spec.add_actuator(name=Names.steer(c), target=Names.steer(c), trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                      forcerange=[-cfg.steer_torque, cfg.steer_torque], forcelimited=True).set_to_position(
-                          kp=cfg.steer_kp, kv=cfg.steer_kv)
-    spec.add_actuator(name=Names.drive(c), target=Names.drive(c), trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                      forcerange=[-cfg.drive_torque, cfg.drive_torque], forcelimited=True).set_to_velocity(kv=cfg.drive_kv)
-    spec.add_sensor(name=Names.ft(c), type=mujoco.mjtSensor.mjSENS_FORCE, objtype=mujoco.mjtObj.mjOBJ_SITE,
-                    objname=Names.ft(c))
+    wb.add_geom(
+        name=Names.wheel(c),
+        type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+        size=[cfg.wheel_radius, cfg.wheel_width / 2, 0],
+        quat=[math.sqrt(0.5), math.sqrt(0.5), 0, 0],
+        mass=cfg.wheel_mass,
+        contype=WHEEL_BIT,
+        conaffinity=0,
+        friction=[0.8, 0.005, 0.0001],
+        rgba=[0.15, 0.15, 0.15, 1],
+    )
+    wb.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[0.02, cfg.wheel_width / 2 + 0.002, cfg.wheel_radius * 0.9],
+        mass=0.01,
+        contype=0,
+        conaffinity=0,
+        rgba=[0.8, 0.6, 0.1, 1],
+    )  # spoke: shows spin
+    spec.add_actuator(
+        name=Names.steer(c),
+        target=Names.steer(c),
+        trntype=mujoco.mjtTrn.mjTRN_JOINT,
+        forcerange=[-cfg.steer_torque, cfg.steer_torque],
+        forcelimited=True,
+    ).set_to_position(kp=cfg.steer_kp, kv=cfg.steer_kv)
+    spec.add_actuator(
+        name=Names.drive(c),
+        target=Names.drive(c),
+        trntype=mujoco.mjtTrn.mjTRN_JOINT,
+        forcerange=[-cfg.drive_torque, cfg.drive_torque],
+        forcelimited=True,
+    ).set_to_velocity(kv=cfg.drive_kv)
+    spec.add_sensor(
+        name=Names.ft(c), type=mujoco.mjtSensor.mjSENS_FORCE, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=Names.ft(c)
+    )
 
 
 def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: float = 0.0) -> None:
@@ -220,15 +297,31 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
     ch = spec.worldbody.add_body(name=Names.CHASSIS, pos=list(pos), quat=quat)
     ch.add_freejoint(name=Names.ROOT)
     hx, hy, hz = cfg.chassis_size
-    ch.add_geom(name=Names.CHASSIS, type=mujoco.mjtGeom.mjGEOM_BOX, size=[hx, hy, hz], mass=cfg.chassis_mass,
-                contype=LINK_BIT, conaffinity=0, rgba=[0.85, 0.85, 0.8, 1])
-    ch.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.05, 0.05, 0.25], pos=[hx - 0.1, 0, hz + 0.25], mass=0.01,
-                contype=0, conaffinity=0, rgba=[0.4, 0.4, 0.45, 1])  # mast (visual)
+    ch.add_geom(
+        name=Names.CHASSIS,
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[hx, hy, hz],
+        mass=cfg.chassis_mass,
+        contype=LINK_BIT,
+        conaffinity=0,
+        rgba=[0.85, 0.85, 0.8, 1],
+    )
+    ch.add_geom(
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[0.05, 0.05, 0.25],
+        pos=[hx - 0.1, 0, hz + 0.25],
+        mass=0.01,
+        contype=0,
+        conaffinity=0,
+        rgba=[0.4, 0.4, 0.45, 1],
+    )  # mast (visual)
     ch.add_site(name=Names.IMU)
-    spec.add_sensor(name=Names.QUAT, type=mujoco.mjtSensor.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-                    objname=Names.IMU)
-    spec.add_sensor(name=Names.GYRO, type=mujoco.mjtSensor.mjSENS_GYRO, objtype=mujoco.mjtObj.mjOBJ_SITE,
-                    objname=Names.IMU)
+    spec.add_sensor(
+        name=Names.QUAT, type=mujoco.mjtSensor.mjSENS_FRAMEQUAT, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=Names.IMU
+    )
+    spec.add_sensor(
+        name=Names.GYRO, type=mujoco.mjtSensor.mjSENS_GYRO, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=Names.IMU
+    )
     b, a, bh = cfg.rear_len, cfg.front_len, cfg.bogie_half
     th0 = cfg.theta_s20
     piv = (-b * math.cos(th0), 0.0, -b * math.sin(th0))
@@ -237,15 +330,32 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
         sg = 1.0 if s == "L" else -1.0
         d = ch.add_body(name=Names.diff(s), pos=[0, sg * cfg.hinge_track / 2, 0])
         d.add_joint(name=Names.diff(s), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0], damping=cfg.pivot_damping)
-        d.add_geom(type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[0.06, 0.03, 0], quat=[math.sqrt(0.5), math.sqrt(0.5), 0, 0],
-                   mass=cfg.diff_mass, contype=0, conaffinity=0, rgba=[0.2, 0.4, 0.7, 1])
+        d.add_geom(
+            type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+            size=[0.06, 0.03, 0],
+            quat=[math.sqrt(0.5), math.sqrt(0.5), 0, 0],
+            mass=cfg.diff_mass,
+            contype=0,
+            conaffinity=0,
+            rgba=[0.2, 0.4, 0.7, 1],
+        )
         rr = d.add_body(name=Names.rear(s), pos=[0, 0, 0])
-        rr.add_joint(name=Names.rocker(s), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0], range=list(cfg.rocker_range),
-                     armature=1.0)
+        rr.add_joint(
+            name=Names.rocker(s),
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0, 1, 0],
+            range=list(cfg.rocker_range),
+            armature=1.0,
+        )
         _cap(rr, (0, 0, 0), piv, 0.04, cfg.link_mass, [0.2, 0.4, 0.7, 1])
         bg = rr.add_body(name=Names.bogie(s), pos=list(piv))
-        bg.add_joint(name=Names.bogie(s), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0], range=[-0.8, 0.8],
-                     damping=cfg.pivot_damping)
+        bg.add_joint(
+            name=Names.bogie(s),
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0, 1, 0],
+            range=[-0.8, 0.8],
+            damping=cfg.pivot_damping,
+        )
         _cap(bg, (bh, 0, 0), (-bh, 0, 0), 0.035, 0.7 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
         _cap(bg, (bh, 0, 0), (bh, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
         _cap(bg, (-bh, 0, 0), (-bh, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
@@ -257,15 +367,30 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
         _cap(fr, (0, 0, 0), (a, 0, 0), 0.04, 0.85 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
         _cap(fr, (a, 0, 0), (a, sg * lat, 0), 0.03, 0.15 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
         _pillar_and_wheel(fr, "c1" if s == "L" else "c2", (a, sg * lat, 0), cfg.pillar_front, cfg, spec)
-        spec.add_equality(name=Names.couple(s), type=mujoco.mjtEq.mjEQ_JOINT, name1=Names.front(s),
-                          name2=Names.rocker(s), data=[0, -cfg.z_ratio, 0, 0, 0] + [0] * 7)
-        spec.add_equality(name=Names.clutch(s), type=mujoco.mjtEq.mjEQ_JOINT, name1=Names.bogie(s),
-                          data=[0] * 12, active=False)
-        spec.add_actuator(name=Names.rocker(s), target=Names.rocker(s), trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                          forcerange=[-cfg.rocker_torque, cfg.rocker_torque], forcelimited=True).set_to_position(
-                              kp=cfg.rocker_kp, kv=cfg.rocker_kv)
-    spec.add_equality(name=Names.DIFF_EQ, type=mujoco.mjtEq.mjEQ_JOINT, name1=Names.diff("L"), name2=Names.diff("R"),
-                      data=[0, -1, 0, 0, 0] + [0] * 7)
+        spec.add_equality(
+            name=Names.couple(s),
+            type=mujoco.mjtEq.mjEQ_JOINT,
+            name1=Names.front(s),
+            name2=Names.rocker(s),
+            data=[0, -cfg.z_ratio, 0, 0, 0] + [0] * 7,
+        )
+        spec.add_equality(
+            name=Names.clutch(s), type=mujoco.mjtEq.mjEQ_JOINT, name1=Names.bogie(s), data=[0] * 12, active=False
+        )
+        spec.add_actuator(
+            name=Names.rocker(s),
+            target=Names.rocker(s),
+            trntype=mujoco.mjtTrn.mjTRN_JOINT,
+            forcerange=[-cfg.rocker_torque, cfg.rocker_torque],
+            forcelimited=True,
+        ).set_to_position(kp=cfg.rocker_kp, kv=cfg.rocker_kv)
+    spec.add_equality(
+        name=Names.DIFF_EQ,
+        type=mujoco.mjtEq.mjEQ_JOINT,
+        name1=Names.diff("L"),
+        name2=Names.diff("R"),
+        data=[0, -1, 0, 0, 0] + [0] * 7,
+    )
 
 
 def wheel_bodies() -> list[str]:
@@ -279,8 +404,15 @@ def start_height(cfg: RobotConfig, sinkage: float = 0.0) -> float:
 
 def joint_counts(model: mujoco.MjModel) -> dict[str, int]:
     """The model's counts (pinned in tests)."""
-    return {"nbody": model.nbody, "njnt": model.njnt, "nq": model.nq, "nv": model.nv, "nu": model.nu,
-            "neq": model.neq, "nsensor": model.nsensor}
+    return {
+        "nbody": model.nbody,
+        "njnt": model.njnt,
+        "nq": model.nq,
+        "nv": model.nv,
+        "nu": model.nu,
+        "neq": model.neq,
+        "nsensor": model.nsensor,
+    }
 
 
 __all__ = [

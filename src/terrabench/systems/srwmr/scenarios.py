@@ -19,10 +19,16 @@ from terrabench.systems.srwmr.config import SRWMRConfig
 SCENARIO = "srwmr/tasks-v1"
 SLOPE_SCENARIO = "srwmr/slopes-v1"
 METHODS = {
-    "wrm": MethodInfo("wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",)),
+    "wrm": MethodInfo(
+        "wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",)
+    ),
     "wcm": MethodInfo("wcm", "wheel crabbing mode: steer +-90 deg, roll sideways, steer back", ("wheels",)),
-    "rclm": MethodInfo("rclm", "robot chassis lifting mode: raise/lower the chassis, wheels coordinated (MC#2)", ("suspension",)),
-    "rcm": MethodInfo("rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",)),
+    "rclm": MethodInfo(
+        "rclm", "robot chassis lifting mode: raise/lower the chassis, wheels coordinated (MC#2)", ("suspension",)
+    ),
+    "rcm": MethodInfo(
+        "rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",)
+    ),
 }
 
 
@@ -30,10 +36,12 @@ class SRWMRSystem(System):
     """The HIT-MRII reconfigurable rover on loose soil."""
 
     id = "srwmr"
-    summary = "HIT-MRII reconfigurable rocker-bogie rover: constraint-saturated IK, WRM/WCM/RCLM/RCM on loose soil (Qi et al.)"
+    summary = "HIT-MRII reconfigurable rover: constraint-saturated IK, WRM/WCM/RCLM/RCM on loose soil (Qi et al.)"
     config_cls = SRWMRConfig
-    groups = {"tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T8, T11, T14)",
-              "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)"}
+    groups = {
+        "tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T8, T11, T14)",
+        "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)",
+    }
     default_group = "tasks"
     timeout_key = "protocol.timeout"
     headline_metrics = ("body_slip", "progress", "distance", "energy_kJ", "W_diff_max", "sim_time")
@@ -63,8 +71,15 @@ class SRWMRSystem(System):
         validate(cfg)
         return cfg
 
-    def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
-             group: str | None = None, seeds: int = 1, overrides=None) -> list[TrialSpec]:
+    def plan(
+        self,
+        *,
+        methods: Sequence[str] | None = None,
+        instances: Sequence[str] | None = None,
+        group: str | None = None,
+        seeds: int = 1,
+        overrides=None,
+    ) -> list[TrialSpec]:
         from terrabench.systems.srwmr.layouts import APPLIES
 
         specs = super().plan(methods=methods, instances=instances, group=group, seeds=seeds, overrides=overrides)
@@ -85,8 +100,9 @@ class SRWMRSystem(System):
 
         if spec.method not in METHODS:
             raise ValueError(f"unknown srwmr method {spec.method!r}; valid: {', '.join(METHODS)}")
-        return RoverController(list(task.layout.plan), cfg.robot, cfg.supervisor, cfg.limits, cfg.scales,
-                               cfg.protocol.control_period)
+        return RoverController(
+            list(task.layout.plan), cfg.robot, cfg.supervisor, cfg.limits, cfg.scales, cfg.protocol.control_period
+        )
 
     def env_adapter(self):
         from terrabench.systems.srwmr.env import SRWMREnvAdapter

@@ -39,11 +39,22 @@ class Observation:
         forward / lateral body speed (m/s) from motion capture, noisy.
     """
 
-    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, rng: np.random.Generator,
-                 load_noise: float = 5.0, speed_noise: float = 0.001, pose_noise: float = 0.00015):
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        rng: np.random.Generator,
+        load_noise: float = 5.0,
+        speed_noise: float = 0.001,
+        pose_noise: float = 0.00015,
+    ):
         self._d = data
-        jq = lambda n: int(model.joint(n).qposadr[0])
-        jv = lambda n: int(model.joint(n).dofadr[0])
+        def jq(n):
+            return int(model.joint(n).qposadr[0])
+
+        def jv(n):
+            return int(model.joint(n).dofadr[0])
+
         self._rock_q = np.array([jq(Names.rocker(s)) for s in SIDES])
         self._rock_v = np.array([jv(Names.rocker(s)) for s in SIDES])
         self._diff = np.array([jq(Names.diff(s)) for s in SIDES])
@@ -75,9 +86,9 @@ class Observation:
         self.mu = d.qpos[self._steer].copy()
         self.spin = d.qvel[self._spin].copy()
         self.tau = d.actuator_force[self._drive].copy()
-        q = s[self._quat: self._quat + 4]
+        q = s[self._quat : self._quat + 4]
         self.rpy = np.array(rpy_from_quat(q))
-        self.gyro = s[self._gyro: self._gyro + 3].copy()
+        self.gyro = s[self._gyro : self._gyro + 3].copy()
         # F/T sensor: force the pillar transmits (site frame); the load is the component along
         # the pillar (-z of the site frame carries the wheel), then rotated
         f = s[self._ft[:, None] + np.arange(3)]
@@ -87,7 +98,7 @@ class Observation:
         yaw = self.rpy[2]
         self.xy = d.xpos[ch, :2] + rng.normal(0.0, self.pose_noise, 2)
         self.yaw = yaw
-        vw = d.qvel[self._root: self._root + 3]  # free joint: linear velocity of the origin, world frame
+        vw = d.qvel[self._root : self._root + 3]  # free joint: linear velocity of the origin, world frame
         c, sn = math.cos(yaw), math.sin(yaw)
         fwd, lat = c * vw[0] + sn * vw[1], -sn * vw[0] + c * vw[1]
         self.v_body = np.array([fwd, lat]) + rng.normal(0.0, self.speed_noise, 2)

@@ -38,10 +38,20 @@ T1_RANGES = {"very_loose": (0.30, 0.65), "loose": (0.0, 0.40)}
 FIT_K_PHI_VERY_LOOSE = 937.2e3
 FIT_K_LOOSE = 0.01783
 
-VERY_LOOSE = dataclasses.replace(MARS_SOFT, name="very_loose", k_phi=FIT_K_PHI_VERY_LOOSE, K=0.02,
-                                 source="MARS_SOFT with k_phi fitted to T1 very-loose WRM slip (srwmr.soils)")
-LOOSE = dataclasses.replace(MARS_SOFT, name="loose", k_phi=1528e3, K=FIT_K_LOOSE,
-                            source="MARS_SOFT with the dense k_phi and K fitted to T1 loose WRM slip (srwmr.soils)")
+VERY_LOOSE = dataclasses.replace(
+    MARS_SOFT,
+    name="very_loose",
+    k_phi=FIT_K_PHI_VERY_LOOSE,
+    K=0.02,
+    source="MARS_SOFT with k_phi fitted to T1 very-loose WRM slip (srwmr.soils)",
+)
+LOOSE = dataclasses.replace(
+    MARS_SOFT,
+    name="loose",
+    k_phi=1528e3,
+    K=FIT_K_LOOSE,
+    source="MARS_SOFT with the dense k_phi and K fitted to T1 loose WRM slip (srwmr.soils)",
+)
 SRWMR_SOILS = {"very_loose": VERY_LOOSE, "loose": LOOSE}
 
 
@@ -54,11 +64,12 @@ def zero_pull_slip(soil: SoilParams, load: float = NOMINAL_LOAD) -> float:
     i = int(np.argmax(dp > 0))
     if i == 0:
         return 0.0
-    return float(np.interp(0.0, dp[i - 1: i + 1], s[i - 1: i + 1]))
+    return float(np.interp(0.0, dp[i - 1 : i + 1], s[i - 1 : i + 1]))
 
 
 def fit() -> dict[str, float]:
     """Re-run the calibration; returns the fitted k_phi (very loose) and K (loose)."""
+
     def bisect(f, lo, hi, target, increasing):
         for _ in range(30):
             mid = 0.5 * (lo + hi)
@@ -68,10 +79,20 @@ def fit() -> dict[str, float]:
                 lo = mid
         return 0.5 * (lo + hi)
 
-    kphi = bisect(lambda k: zero_pull_slip(dataclasses.replace(MARS_SOFT, k_phi=k, K=0.02)), 700e3, 1500e3,
-                  TARGETS["very_loose"], increasing=False)
-    K = bisect(lambda k: zero_pull_slip(dataclasses.replace(MARS_SOFT, k_phi=1528e3, K=k)), 0.008, 0.03,
-               TARGETS["loose"], increasing=True)
+    kphi = bisect(
+        lambda k: zero_pull_slip(dataclasses.replace(MARS_SOFT, k_phi=k, K=0.02)),
+        700e3,
+        1500e3,
+        TARGETS["very_loose"],
+        increasing=False,
+    )
+    K = bisect(
+        lambda k: zero_pull_slip(dataclasses.replace(MARS_SOFT, k_phi=1528e3, K=k)),
+        0.008,
+        0.03,
+        TARGETS["loose"],
+        increasing=True,
+    )
     return {"k_phi_very_loose": kphi, "K_loose": K}
 
 

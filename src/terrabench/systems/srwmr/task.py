@@ -23,7 +23,6 @@ from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
 from terrabench.systems.srwmr.layouts import Layout, layout
-from terrabench.terrain.mjcf import add_heightfield
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
     SIDES,
@@ -35,10 +34,14 @@ from terrabench.systems.srwmr.robot import (
 )
 from terrabench.systems.srwmr.sensing import Observation
 from terrabench.systems.srwmr.soils import srwmr_soil
+from terrabench.terrain.mjcf import add_heightfield
 
-COLUMNS = (("x", "y", "z", "yaw", "pitch", "roll", "v", "v_cmd", "delta_L", "delta_R", "mode", "step", "slip",
-            "sinkage") + tuple(f"W_{c}" for c in WHEELS) + ("DP", "P_drive")
-           + tuple(f"eta_{n}" for n in mc.NAMES))
+COLUMNS = (
+    ("x", "y", "z", "yaw", "pitch", "roll", "v", "v_cmd", "delta_L", "delta_R", "mode", "step", "slip", "sinkage")
+    + tuple(f"W_{c}" for c in WHEELS)
+    + ("DP", "P_drive")
+    + tuple(f"eta_{n}" for n in mc.NAMES)
+)
 
 
 @functools.lru_cache(maxsize=16)
@@ -76,8 +79,11 @@ class SRWMRTask(TaskBase):
         rng = np.random.default_rng(seed)
         sc = cfg.scene
         if seed:
-            self.start = (rng.uniform(-sc.start_jitter, sc.start_jitter), rng.uniform(-sc.start_jitter, sc.start_jitter),
-                          math.radians(rng.uniform(-sc.yaw_jitter_deg, sc.yaw_jitter_deg)))
+            self.start = (
+                rng.uniform(-sc.start_jitter, sc.start_jitter),
+                rng.uniform(-sc.start_jitter, sc.start_jitter),
+                math.radians(rng.uniform(-sc.yaw_jitter_deg, sc.yaw_jitter_deg)),
+            )
         else:
             self.start = (0.0, 0.0, 0.0)
         self.rng = np.random.default_rng(1_000_000 + seed)
@@ -91,9 +97,15 @@ class SRWMRTask(TaskBase):
         prof = lay.profile
         self.flat = all(abs(z - prof[0][1]) < 1e-12 for _, z in prof)
         if self.flat:
-            spec.worldbody.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[40, 40, 0.1],
-                                    pos=[0, 0, prof[0][1]], contype=0, conaffinity=LINK_BIT,
-                                    rgba=[0.72, 0.55, 0.38, 1])
+            spec.worldbody.add_geom(
+                name="ground",
+                type=mujoco.mjtGeom.mjGEOM_PLANE,
+                size=[40, 40, 0.1],
+                pos=[0, 0, prof[0][1]],
+                contype=0,
+                conaffinity=LINK_BIT,
+                rgba=[0.72, 0.55, 0.38, 1],
+            )
         else:
             # a ramp or a pit: one heightfield (20 mm along x) for the soil and the rigid links
             x = np.arange(-4.0, 9.0 + 1e-9, 0.02)
@@ -104,9 +116,16 @@ class SRWMRTask(TaskBase):
             g.rgba = [0.72, 0.55, 0.38, 1]
         for i, (cx, cy, hx, hy, hz) in enumerate(lay.boxes):
             zb = float(np.interp(cx, [p[0] for p in prof], [p[1] for p in prof]))
-            spec.worldbody.add_geom(name=f"obstacle_{i}", type=mujoco.mjtGeom.mjGEOM_BOX, size=[hx, hy, hz],
-                                    pos=[cx, cy, zb + hz], contype=0, conaffinity=LINK_BIT | WHEEL_BIT,
-                                    friction=[0.8, 0.005, 0.0001], rgba=[0.55, 0.3, 0.25, 1])
+            spec.worldbody.add_geom(
+                name=f"obstacle_{i}",
+                type=mujoco.mjtGeom.mjGEOM_BOX,
+                size=[hx, hy, hz],
+                pos=[cx, cy, zb + hz],
+                contype=0,
+                conaffinity=LINK_BIT | WHEEL_BIT,
+                friction=[0.8, 0.005, 0.0001],
+                rgba=[0.55, 0.3, 0.25, 1],
+            )
         spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
         self.table = soil_table(self.soil, HIT_MRII_WHEEL)
         self.z_sink = self.table.static_sinkage(r.total_mass * 9.81 / 6)
@@ -124,9 +143,17 @@ class SRWMRTask(TaskBase):
             data.qpos[model.joint(Names.bogie(s)).qposadr[0]] = d0
         mujoco.mj_forward(model, data)
         ground = flat_ground(self.layout.profile[0][1]) if self.flat else hfield_ground(model, "ground")
-        self.soil_wheels = SoilWheels(model, data, wheel_bodies(), HIT_MRII_WHEEL, self.table, ground,
-                                      v_eps=self.cfg.soil.v_eps,
-                                      every=self.cfg.soil.every, refresh=self.cfg.soil.refresh)
+        self.soil_wheels = SoilWheels(
+            model,
+            data,
+            wheel_bodies(),
+            HIT_MRII_WHEEL,
+            self.table,
+            ground,
+            v_eps=self.cfg.soil.v_eps,
+            every=self.cfg.soil.every,
+            refresh=self.cfg.soil.refresh,
+        )
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
         self.before_substep = self.soil_wheels.before_substep
         self.a_steer = np.array([model.actuator(Names.steer(c)).id for c in WHEELS])
@@ -180,9 +207,27 @@ class SRWMRTask(TaskBase):
         else:
             vc, mode, ratios = float(cmd.u[0]), float(cmd.mode), cmd.ratios
             step = float(getattr(cmd, "step", np.nan))
-        return ((float(p[0]), float(p[1]), float(p[2]), yaw, obs.rpy[1], obs.rpy[0], v, vc, obs.delta[0], obs.delta[1],
-                 mode, step, float(np.mean(t["slip"])), float(np.mean(t["sinkage"])))
-                + tuple(float(w) for w in t["Fn"]) + (float(np.sum(t["DP"])), drive_p) + tuple(float(x) for x in ratios))
+        return (
+            (
+                float(p[0]),
+                float(p[1]),
+                float(p[2]),
+                yaw,
+                obs.rpy[1],
+                obs.rpy[0],
+                v,
+                vc,
+                obs.delta[0],
+                obs.delta[1],
+                mode,
+                step,
+                float(np.mean(t["slip"])),
+                float(np.mean(t["sinkage"])),
+            )
+            + tuple(float(w) for w in t["Fn"])
+            + (float(np.sum(t["DP"])), drive_p)
+            + tuple(float(x) for x in ratios)
+        )
 
     def power(self, obs) -> float:
         d = self.data
@@ -194,5 +239,12 @@ class SRWMRTask(TaskBase):
         return episode_metrics(log, self.x_start, self.z_start)
 
     def info(self) -> dict:
-        return {"soil": self.soil.name, "k_phi": self.soil.k_phi, "K": self.soil.K, "goal_x": self.layout.goal_x,
-                "slope_deg": self.layout.slope_deg, "note": self.layout.note, "timestep": self.physics.timestep}
+        return {
+            "soil": self.soil.name,
+            "k_phi": self.soil.k_phi,
+            "K": self.soil.K,
+            "goal_x": self.layout.goal_x,
+            "slope_deg": self.layout.slope_deg,
+            "note": self.layout.note,
+            "timestep": self.physics.timestep,
+        }

@@ -18,7 +18,9 @@ from multiprocessing.connection import wait as mp_wait
 from typing import Any
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
-from terrabench.benchmark.worker import execute, exit_reason as _exit_reason, fault_result as _fault_result
+from terrabench.benchmark.worker import execute
+from terrabench.benchmark.worker import exit_reason as _exit_reason
+from terrabench.benchmark.worker import fault_result as _fault_result
 
 #: A worker process that has not finished importing the systems by then is killed.
 WORKER_START_BUDGET_S = 300.0
@@ -51,8 +53,8 @@ def _worker_main(conn, systems: list[str], parent_pid: int) -> None:
         except (BrokenPipeError, EOFError, OSError):
             return
         except Exception as exc:  # a result that does not pickle
-            conn.send(("result", TrialResult("error", wall_time=result.wall_time,
-                                              info={"error": f"result could not be sent: {type(exc).__name__}: {exc}"})))
+            error = f"result could not be sent: {type(exc).__name__}: {exc}"
+            conn.send(("result", TrialResult("error", wall_time=result.wall_time, info={"error": error})))
 
 
 def _die_with_parent(parent_pid: int) -> None:

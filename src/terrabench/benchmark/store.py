@@ -75,7 +75,8 @@ class ResultsStore:
             msg = str(exc).splitlines()[0]
             raise StoreError(f"cannot open results file {str(self.path)!r}: {msg}") from None
         except duckdb.Error as exc:
-            raise StoreError(f"{str(self.path)!r} is not a usable DuckDB results file: {str(exc).splitlines()[0]}") from None
+            msg = str(exc).splitlines()[0]
+            raise StoreError(f"{str(self.path)!r} is not a usable DuckDB results file: {msg}") from None
         self._check_or_init(read_only, __version__)
 
     def _check_or_init(self, read_only: bool, version: str) -> None:
@@ -90,12 +91,15 @@ class ResultsStore:
                 )
             return
         if tables:
-            raise StoreError(f"{str(self.path)!r} is a DuckDB file but not a terrabench results store (tables: {sorted(tables)})")
+            raise StoreError(
+                f"{str(self.path)!r} is a DuckDB file but not a terrabench results store (tables: {sorted(tables)})"
+            )
         if read_only:
             raise StoreError(f"results file {str(self.path)!r} is empty")
         for ddl in _DDL:
             self.con.execute(ddl)
-        self.con.execute("INSERT INTO meta VALUES ('schema_version', ?), ('created_by', ?)", [str(SCHEMA_VERSION), version])
+        self.con.execute("INSERT INTO meta VALUES ('schema_version', ?), ('created_by', ?)",
+                         [str(SCHEMA_VERSION), version])
 
     # ---------------------------------------------------------------- writing
     def write(self, spec: TrialSpec, result: TrialResult) -> None:
@@ -195,11 +199,13 @@ class ResultsStore:
             if val is not None:
                 where.append(f"{col} = ?")
                 args.append(val)
-        sql = "SELECT key, system, scenario, method, instance, seed, config_hash, status, wall_time, metrics, info, config, finished_at FROM trials"
+        sql = ("SELECT key, system, scenario, method, instance, seed, config_hash, status, wall_time, metrics, info, "
+               "config, finished_at FROM trials")
         if where:
             sql += " WHERE " + " AND ".join(where)
         sql += " ORDER BY system, scenario, method, instance, seed"
-        cols = ["key", "system", "scenario", "method", "instance", "seed", "config_hash", "status", "wall_time", "metrics", "info", "config", "finished_at"]
+        cols = ["key", "system", "scenario", "method", "instance", "seed", "config_hash", "status", "wall_time",
+                "metrics", "info", "config", "finished_at"]
         out = []
         wanted = set(keys) if keys is not None else None
         for r in self.con.execute(sql, args).fetchall():

@@ -115,7 +115,10 @@ def plan_path(ls: Landscape, q_start, cfg: PlannerConfig = PlannerConfig()) -> P
     graph = csr_matrix((w, (rows_, cols_)), shape=(n, n))
     src = np.ravel_multi_index(ls.index(q_start), shape)
     xs = ls.grid.xs
-    tx = xs.size - 1 if cfg.target_x is None else int(np.clip(np.rint((cfg.target_x - xs[0]) / ls.grid.dx), 0, xs.size - 1))
+    if cfg.target_x is None:
+        tx = xs.size - 1
+    else:
+        tx = int(np.clip(np.rint((cfg.target_x - xs[0]) / ls.grid.dx), 0, xs.size - 1))
     mid = ls.grid.angles.size // 2
     dst = np.ravel_multi_index((tx, mid, mid), shape)
     dist, pred = dijkstra(graph, directed=True, indices=src, return_predecessors=True)

@@ -149,7 +149,8 @@ def paper_vs_readings(rows) -> list[dict[str, Any]]:
         fm = max(r["metrics"].get("force_rel_err_median", math.nan) for r in c)
         fx = max(r["metrics"].get("force_rel_err_max", math.nan) for r in c)
         sth = max(r["metrics"].get("soft_theta_err_max_deg", math.nan) for r in c)
-        return f"theta max {th:.2f} deg, |F| median {100 * fm:.1f} % (max {100 * fx:.1f} %); soft contact theta max {sth:.0f} deg"
+        return (f"theta max {th:.2f} deg, |F| median {100 * fm:.1f} % (max {100 * fx:.1f} %); "
+                f"soft contact theta max {sth:.0f} deg")
     add("MuJoCo cross-check, 5 poses (worst pose)", "(not in paper)", cc)
     return lines
 
@@ -310,7 +311,10 @@ def _tables(rows, tag: str) -> list:
             t.add_column(c)
         for r in sorted(bars, key=lambda r: r["metrics"].get("gap", 0)):
             m = r["metrics"]
-            mode = lambda pk: "-" if not np.isfinite(m.get("roll_mJ", np.nan)) else ("pitch" if m[pk] < m["roll_mJ"] else "roll")
+            def mode(pk, m=m):
+                if not np.isfinite(m.get("roll_mJ", np.nan)):
+                    return "-"
+                return "pitch" if m[pk] < m["roll_mJ"] else "roll"
             t.add_row(_fmt(m.get("gap"), 2), _fmt(m.get("inner_gap"), 3), _fmt(m.get("roll_clear_deg"), 1),
                       _fmt(m.get("roll_mJ"), 1), _fmt(m.get("pitch_low_mJ"), 1), _fmt(m.get("pitch_high_mJ"), 1),
                       _fmt(m.get("k_cross"), 4), f"{mode('pitch_low_mJ')} / {mode('pitch_high_mJ')}")
@@ -412,15 +416,18 @@ def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str
                     continue
                 ek = [(x["e_k1_mean"] + x["e_k2_mean"]) / 2 for x in ln]
                 eks = [(x["e_k1_std"] + x["e_k2_std"]) / 2 for x in ln]
-                axes[0].errorbar(sig, np.multiply(ek, 100), np.multiply(eks, 100), marker=mk, capsize=3, label=f"{m} (ours)")
+                axes[0].errorbar(sig, np.multiply(ek, 100), np.multiply(eks, 100), marker=mk, capsize=3,
+                                 label=f"{m} (ours)")
                 paper = [PAPER["estimation"][m].get(x["instance"], {}) for x in ln]
                 axes[0].plot(sig, [100 * (p["k1"][1] + p["k2"][1]) / 2 if p else np.nan for p in paper], mk + ":",
                              color="gray", alpha=.7, label=f"{m} (paper, 1 draw)")
                 if m != "estimate-2":
                     eh = [x["e_hb1_mean"] for x in ln]
                     ehs = [x["e_hb1_std"] for x in ln]
-                    axes[1].errorbar(sig, np.multiply(eh, 100), np.multiply(ehs, 100), marker=mk, capsize=3, label=f"{m} (ours)")
-                    axes[1].plot(sig, [100 * (p.get("hb1", p.get("hb", (0, np.nan)))[1]) if p else np.nan for p in paper],
+                    axes[1].errorbar(sig, np.multiply(eh, 100), np.multiply(ehs, 100), marker=mk, capsize=3,
+                                     label=f"{m} (ours)")
+                    axes[1].plot(sig,
+                                 [100 * (p.get("hb1", p.get("hb", (0, np.nan)))[1]) if p else np.nan for p in paper],
                                  mk + ":", color="gray", alpha=.7, label=f"{m} (paper)")
             axes[0].set(xlabel="noise sigma (%)", ylabel="stiffness rel. error (%) mean of k1,k2", xscale="log")
             axes[1].set(xlabel="noise sigma (%)", ylabel="deflection-height error / 5 mm (%)", xscale="log")
@@ -438,14 +445,17 @@ def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str
                     ax.errorbar(ts, [100 * (x["e_k1_mean"] + x["e_k2_mean"]) / 2 for x in ln],
                                 [100 * (x["e_k1_std"] + x["e_k2_std"]) / 2 for x in ln], marker=mk, capsize=3, label=m)
             p4 = PAPER["estimation"]["estimate-3"]
-            ax.plot([50, 100, 300, 600], [100 * (p4[f"sigma20-ts{t}"]["k1"][1] + p4[f"sigma20-ts{t}"]["k2"][1]) / 2
-                                          for t in (50, 100, 300, 600)], "s:", color="gray", label="estimate-3 paper (Table 4)")
+            p4_k = [100 * (p4[f"sigma20-ts{t}"]["k1"][1] + p4[f"sigma20-ts{t}"]["k2"][1]) / 2
+                    for t in (50, 100, 300, 600)]
+            ax.plot([50, 100, 300, 600], p4_k, "s:", color="gray", label="estimate-3 paper (Table 4)")
             ax.set(xlabel="sensing time T_s (ms)", ylabel="stiffness rel. error (%)", xscale="log")
             ax.legend(fontsize=7)
             ax.grid(alpha=.3)
-            save_rd(fig, "estimation_vs_sensing_time.png", "Stiffness error vs sensing time at sigma = 20 % (Table 4).")
-            ex_row = next((r for r in rows if r["scenario"] == "beams/estimation-v1" and r["instance"] == "sigma20-ts300"
-                           and r["seed"] == 0 and r["method"] == "estimate-3"), None)
+            save_rd(fig, "estimation_vs_sensing_time.png",
+                    "Stiffness error vs sensing time at sigma = 20 % (Table 4).")
+            ex_row = next((r for r in rows if r["scenario"] == "beams/estimation-v1"
+                           and r["instance"] == "sigma20-ts300" and r["seed"] == 0 and r["method"] == "estimate-3"),
+                          None)
             if ex_row:
                 ts = store.timeseries(ex_row["key"])
                 fig, ax = plt.subplots(figsize=(6, 3.5))
@@ -459,11 +469,12 @@ def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str
         lines = []
         for (inst, m), rs in sorted(_groupby(trav, ("instance", "method")).items()):
             mu, sd, n = _ms([r["metrics"].get("energy_mJ") for r in rs])
+            pipeline_s = [(r["info"].get("wall_s") or {}).get("total_s", r["metrics"].get("total_s")) for r in rs]
             lines.append({"case": inst, "method": m, "n": len(rs), "success": sum(r["status"] == "success" for r in rs),
                           "mode_roll_frac": float(np.mean([r["metrics"].get("mode_roll", np.nan) for r in rs])),
                           "energy_mJ_mean": mu, "energy_mJ_std": sd, "paper_mJ": PAPER["energy_mJ"].get((inst, m)),
                           "paper_mode": PAPER["mode"].get(inst) if m == "interact" else "roll",
-                          "pipeline_s_mean": _ms([(r["info"].get("wall_s") or {}).get("total_s", r["metrics"].get("total_s")) for r in rs])[0]})
+                          "pipeline_s_mean": _ms(pipeline_s)[0]})
         _write_csv(out_dir / nm("traversal.csv"), lines)
         if trav:
             fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
@@ -480,7 +491,8 @@ def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str
             axes[2].set_ylabel("pitch (deg)")
             axes[2].set_xlabel("time (s)")
             axes[0].legend(fontsize=7)
-            save_rd(fig, "traversal_states.png", "State traces of the controlled traversals, seed 0 (cf. paper Fig. 6).")
+            save_rd(fig, "traversal_states.png",
+                    "State traces of the controlled traversals, seed 0 (cf. paper Fig. 6).")
             _landscape_fig(store, trav, save_rd, plt)
         # ---- open loop
         ol = _by(rows, "beams/open-loop-v1")
@@ -522,8 +534,8 @@ def _group_section(page: Any, store: Any, rows: list[dict[str, Any]], label: str
             _write_csv(out_dir / nm("delay.csv"), dlines)
         # ---- experiment and contact check
         ex = _by(rows, "beams/experiment-v1")
-        _write_csv(out_dir / nm("experiment.csv"), [{"instance": r["instance"], "seed": r["seed"], "status": r["status"],
-                                                 **r["metrics"]} for r in ex])
+        _write_csv(out_dir / nm("experiment.csv"), [{"instance": r["instance"], "seed": r["seed"],
+                                                     "status": r["status"], **r["metrics"]} for r in ex])
         cc = _by(rows, "beams/contact-check-v1")
         _write_csv(out_dir / nm("contact_check.csv"), [{"pose": r["instance"], **r["metrics"]} for r in cc])
         if cc:

@@ -104,7 +104,8 @@ def _instance_config(group: str, method: str, instance: str) -> dict[str, Any]:
         m = re.fullmatch(r"roll(-?[\d.]+)-pitch(-?[\d.]+)", instance)
         if not m:
             raise ValueError(f"contact-check instance {instance!r} must look like 'roll20-pitch-10'")
-        return {"kind": "contact-check", "protocol.roll_deg": float(m.group(1)), "protocol.pitch_deg": float(m.group(2))}
+        return {"kind": "contact-check", "protocol.roll_deg": float(m.group(1)),
+                "protocol.pitch_deg": float(m.group(2))}
     if group == "barriers":
         return {"kind": "barriers", "layout.gap": float(instance[3:])}
     raise ValueError(f"unknown group {group!r}; valid: {', '.join(GROUPS)}")

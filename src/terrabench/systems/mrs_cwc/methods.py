@@ -72,7 +72,8 @@ def config_for(method: Method, cfg: dict[str, Any]) -> dict[str, Any]:
         keep.discard("planner")
     unknown = keep - set(cfg)
     if unknown:
-        raise ValueError(f"method {method.id!r} reads unknown config section(s) {sorted(unknown)}; valid: {sorted(cfg)}")
+        raise ValueError(f"method {method.id!r} reads unknown config section(s) {sorted(unknown)}; "
+                         f"valid: {sorted(cfg)}")
     return {k: v for k, v in cfg.items() if k in keep}
 
 

@@ -80,7 +80,8 @@ def edge_costs(h: np.ndarray, cell: float, cfg: PlannerConfig) -> np.ndarray:
         mgx = 0.5 * (gx[src] + gx[dst])
         mgy = 0.5 * (gy[src] + gy[dst])
         tan_c = -uy * mgx + ux * mgy
-        c = ds * (1 + cfg.w_climb * np.maximum(tan_f, 0) ** 2 + cfg.w_descent * np.minimum(tan_f, 0) ** 2 + cfg.w_tip * tan_c**2)
+        c = ds * (1 + cfg.w_climb * np.maximum(tan_f, 0) ** 2 + cfg.w_descent * np.minimum(tan_f, 0) ** 2
+                  + cfg.w_tip * tan_c**2)
         # too steep: not forbidden (a map may offer no fully safe route) but priced far above
         c[(np.abs(tan_f) > tmax_f) | (np.abs(tan_c) > tmax_c)] += ds * cfg.steep_penalty
         out[k][src] = c

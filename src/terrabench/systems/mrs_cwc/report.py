@@ -356,7 +356,8 @@ def _finite(v: Any) -> bool:
 
 
 # ------------------------------------------------------------------ outcome matrix
-OUTCOME_COLUMNS = ("terrain", "group", "method", "label", "config_hash", "status", "NCR_pct", "d_min", "sim_time", "key")
+OUTCOME_COLUMNS = ("terrain", "group", "method", "label", "config_hash", "status", "NCR_pct", "d_min", "sim_time",
+                   "key")
 
 
 def outcome_lines(variants: list[Variant], cells: dict, terrain_ids: list[str]) -> list[dict[str, Any]]:
@@ -368,8 +369,9 @@ def outcome_lines(variants: list[Variant], cells: dict, terrain_ids: list[str]) 
             if r is not None:
                 m = r["metrics"]
                 lines.append({"terrain": tid, "group": tid[0], "method": v.method, "label": v.label,
-                              "config_hash": v.config_hash, "status": r["status"], "NCR_pct": 100.0 * m.get("NCR", np.nan),
-                              "d_min": m.get("d_min"), "sim_time": m.get("sim_time"), "key": r["key"]})
+                              "config_hash": v.config_hash, "status": r["status"],
+                              "NCR_pct": 100.0 * m.get("NCR", np.nan), "d_min": m.get("d_min"),
+                              "sim_time": m.get("sim_time"), "key": r["key"]})
     return lines
 
 
@@ -548,7 +550,8 @@ def source_lines(tagged: list[dict[str, Any]], variants: list[Variant]) -> list[
         ids = {v.id for v in vs}
         mine = [r for r in tagged if r["method"] in ids]
         for group in dataset.GROUPS:
-            ran = [{r["instance"] for r in mine if r["instance"][0] == group and source[r["method"]] == s} for s in sources]
+            ran = [{r["instance"] for r in mine if r["instance"][0] == group and source[r["method"]] == s}
+                   for s in sources]
             common = set.intersection(*ran)
             if not common:
                 continue
@@ -576,7 +579,8 @@ def _astar_section(page: "Page", tagged: list[dict[str, Any]], variants: list[Va
     page.raw(table_html(groups, ASTAR_GROUP_COLUMNS)
              + " <a href='astar_paths.csv'>astar_paths.csv</a>, per terrain: "
              "<a href='astar_paths_terrains.csv'>astar_paths_terrains.csv</a>")
-    page.raw(f"<details><summary>planner config used</summary><pre>{html.escape(json.dumps(to_dict(cfg.planner), indent=2))}"
+    planner_json = html.escape(json.dumps(to_dict(cfg.planner), indent=2))
+    page.raw(f"<details><summary>planner config used</summary><pre>{planner_json}"
              "</pre></details>")
     page.figure(astar_figure(lines, waypoints), "astar_paths.png",
                 "Waypoints on the height map: per group the terrain of median and of largest deviation.")

@@ -346,20 +346,28 @@ def _add_sensors(spec: mujoco.MjSpec, variant: str, cfg: ChainConfig) -> None:
     S = mujoco.mjtSensor
     for k in range(cfg.n_units):
         site = f"{Names.unit(k)}_imu"
-        spec.add_sensor(name=f"{Names.unit(k)}_pos", type=S.mjSENS_FRAMEPOS, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        spec.add_sensor(name=f"{Names.unit(k)}_pos", type=S.mjSENS_FRAMEPOS,
+                        objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
         # the body x axis in the world frame: heading = atan2(x_y, x_x) (an IMU/compass)
-        spec.add_sensor(name=f"{Names.unit(k)}_xaxis", type=S.mjSENS_FRAMEXAXIS, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
-        spec.add_sensor(name=f"{Names.unit(k)}_angvel", type=S.mjSENS_FRAMEANGVEL, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        spec.add_sensor(name=f"{Names.unit(k)}_xaxis", type=S.mjSENS_FRAMEXAXIS,
+                        objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
+        spec.add_sensor(name=f"{Names.unit(k)}_angvel", type=S.mjSENS_FRAMEANGVEL,
+                        objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)
     for k in range(cfg.n_units):
         for side in Names.SIDES:
-            spec.add_sensor(name=f"{Names.wheel(k, side)}_vel", type=S.mjSENS_JOINTVEL, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.wheel(k, side))
+            spec.add_sensor(name=f"{Names.wheel(k, side)}_vel", type=S.mjSENS_JOINTVEL,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.wheel(k, side))
     for k in range(cfg.n_units):
         for side in Names.SIDES:
-            spec.add_sensor(name=f"{Names.motor(k, side)}_torque", type=S.mjSENS_ACTUATORFRC, objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.motor(k, side))
+            spec.add_sensor(name=f"{Names.motor(k, side)}_torque", type=S.mjSENS_ACTUATORFRC,
+                            objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.motor(k, side))
     if variant != "none":
         for k in range(1, cfg.n_units):
-            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_angle", type=S.mjSENS_JOINTPOS, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))
+            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_angle", type=S.mjSENS_JOINTPOS,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))
     if variant == "motor":
         for k in range(1, cfg.n_units):
-            spec.add_sensor(name=f"{Names.yaw_servo(k)}_torque", type=S.mjSENS_ACTUATORFRC, objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.yaw_servo(k))
-            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_vel", type=S.mjSENS_JOINTVEL, objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))
+            spec.add_sensor(name=f"{Names.yaw_servo(k)}_torque", type=S.mjSENS_ACTUATORFRC,
+                            objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=Names.yaw_servo(k))
+            spec.add_sensor(name=f"{Names.link_joint(k, 'yaw')}_vel", type=S.mjSENS_JOINTVEL,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=Names.link_joint(k, "yaw"))

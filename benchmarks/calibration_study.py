@@ -88,10 +88,10 @@ def released(name: str) -> dict:
 
 def simulate(name: str, sets: list[str], timeout: float) -> dict:
     from terrabench.config import override, parse_overrides
+    from terrabench.systems.base import run_task
     from terrabench.systems.mrs_cwc.config import MRSConfig
     from terrabench.systems.mrs_cwc.methods import get_method
     from terrabench.systems.mrs_cwc.task import MRSTask, make_controller
-    from terrabench.systems.base import run_task
     from terrabench.terrain import dataset
 
     terrain_id, method_id = name.split("_")
@@ -132,7 +132,8 @@ def _fmt(x, spec):
 
 def row(label: str, s: dict, gap: float | None = None) -> str:
     return (f"{label:<34} {s['status']:>5} {s['T']:6.0f} {_fmt(s['P'], '6.1f')} {_fmt(s['EpD'], '6.0f')} "
-            f"{_fmt(s['tau50'], '6.2f')} {_fmt(s['tau99'], '6.1f')} {_fmt(100 * s['tau20'] if np.isfinite(s['tau20']) else np.nan, '6.1f')} "
+            f"{_fmt(s['tau50'], '6.2f')} {_fmt(s['tau99'], '6.1f')} "
+            f"{_fmt(100 * s['tau20'] if np.isfinite(s['tau20']) else np.nan, '6.1f')} "
             f"{_fmt(100 * s['K50'] if np.isfinite(s['K50']) else np.nan, '6.0f')} {_fmt(gap, '6.2f')}")
 
 

@@ -68,7 +68,8 @@ def describe(r: dict, tail: float) -> str:
     for label, sel in (("all", np.ones(len(s), bool)), (f"last {tail:g} s", s[:, 0] >= s[-1, 0] - tail)):
         x = s[sel]
         un = x[:, 1] < w
-        part = (f"{label}: wheels unloaded {100 * un.mean():5.1f} %, bumper loaded {100 * (x[:, 2] > 5).mean():5.1f} %, "
+        part = (f"{label}: wheels unloaded {100 * un.mean():5.1f} %, "
+                f"bumper loaded {100 * (x[:, 2] > 5).mean():5.1f} %, "
                 f"body loaded {100 * (x[:, 3] > 5).mean():5.1f} %")
         if un.any():
             part += (f"; while unloaded median |tau_L| {np.median(x[un, 4]):.1f}, |tau_R| {np.median(x[un, 5]):.1f}, "

@@ -29,7 +29,8 @@ def main() -> None:
     args = ap.parse_args()
     steps = [float(s) for s in args.steps.split(",")]
     terrains = args.terrains.split(",")
-    specs = {dt: SYSTEM.plan(methods=[args.method], instances=terrains, overrides={"physics.timestep": dt}) for dt in steps}
+    specs = {dt: SYSTEM.plan(methods=[args.method], instances=terrains, overrides={"physics.timestep": dt})
+             for dt in steps}
     with ResultsStore(args.store) as st:
         run_trials([s for v in specs.values() for s in v], st, workers=args.workers)
         res = {dt: {r["instance"]: r for r in st.rows(keys=[s.key for s in v])} for dt, v in specs.items()}
@@ -42,7 +43,8 @@ def main() -> None:
         for dt in steps:
             r = res[dt][tid]
             m = r["metrics"]
-            cells.append(f"{r['status'][:4]} {100 * m['NCR']:.0f} {m['NEF']:.2f} {m['NEC']:.0f} ({r['wall_time']:.0f}s)")
+            cells.append(f"{r['status'][:4]} {100 * m['NCR']:.0f} {m['NEF']:.2f} {m['NEC']:.0f} "
+                         f"({r['wall_time']:.0f}s)")
         t.add_row(tid, *cells)
     for dt in steps:
         rows = list(res[dt].values())
@@ -51,7 +53,8 @@ def main() -> None:
         nef = np.nanmean([r["metrics"]["NEF"] for r in rows])
         wall = sum(r["wall_time"] for r in rows)
         sim = sum(r["metrics"]["sim_time"] for r in rows)
-        t.caption = (t.caption or "") + f"\ndt={dt * 1000:g} ms: success {100 * sr:.0f} %, mean NCR {100 * ncr:.1f} %, mean NEF {nef:.3f}, RTF {sim / wall:.0f}"
+        t.caption = (t.caption or "") + (f"\ndt={dt * 1000:g} ms: success {100 * sr:.0f} %, "
+                                         f"mean NCR {100 * ncr:.1f} %, mean NEF {nef:.3f}, RTF {sim / wall:.0f}")
     Console(width=160).print(t)
 
 

@@ -2,8 +2,8 @@
 
 For checking that a re-run reproduces a published report (e.g. ``docs/results/mrs-cwc``) when
 the report's store is not at hand: status must match exactly, simulated time to 1 us and NCR
-to the 4 decimals the CSV keeps (the CSV is written rounded). Study variants in the CSV (labels naming ``eq12`` or the planner) are
-left out unless ``--all-variants``.
+to the 4 decimals the CSV keeps (the CSV is written rounded). Study variants in the CSV (labels naming
+``eq12`` or the planner) are left out unless ``--all-variants``.
 
 Usage: python tools/compare_outcomes.py STORE [--csv docs/results/mrs-cwc/outcomes.csv]
 Exit code 1 if any compared trial differs.

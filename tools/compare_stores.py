@@ -36,7 +36,8 @@ def main() -> None:
                     "(e.g. wall-clock timings a store kept as metrics)")
     args = ap.parse_args()
     ignored = {m for m in args.ignore.split(",") if m}
-    ident = (lambda r: r["key"]) if args.by == "key" else (lambda r: (r["system"], r["method"], r["instance"], r["seed"]))
+    ident = ((lambda r: r["key"]) if args.by == "key"
+             else (lambda r: (r["system"], r["method"], r["instance"], r["seed"])))
     with ResultsStore(args.a, read_only=True) as sa, ResultsStore(args.b, read_only=True) as sb:
         ra = {ident(r): r for r in sa.rows()}
         rb = {ident(r): r for r in sb.rows()}

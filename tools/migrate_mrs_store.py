@@ -29,10 +29,9 @@ from terrabench.config import from_dict, to_dict
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import METHODS, config_for
 
-
-#: fields added in terrabench 0.3 (wheel_shape, bumper_touches_ground: 0.3.1) whose defaults reproduce 0.2's trials bitwise (checked on 48
-#: trials, 8 methods x 6 terrains, with tools/compare_stores.py --by trial): a row that lacks
-#: them ran with those defaults
+#: fields added in terrabench 0.3 (wheel_shape, bumper_touches_ground: 0.3.1) whose defaults reproduce 0.2's
+#: trials bitwise (checked on 48 trials, 8 methods x 6 terrains, with tools/compare_stores.py --by trial): a row
+#: that lacks them ran with those defaults
 ADDED_WITH_NEUTRAL_DEFAULTS = {
     "chain": ("wheel_drive", "noslip_iterations", "wheel_solref", "wheel_solimp", "drive_solref",
               "drive_solimp", "drive_ref_armature", "wheel_shape",

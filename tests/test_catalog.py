@@ -51,7 +51,8 @@ EXTERNAL = textwrap.dedent('''
 
 def _install(tmp_path, monkeypatch, name: str, module: str, target: str) -> None:
     """A minimal installed distribution on ``sys.path``: a module and a dist-info with one entry point."""
-    (tmp_path / f"{module}.py").write_text(EXTERNAL if module == "toy_terrabench_ext" else "raise ImportError('boom')\n")
+    source = EXTERNAL if module == "toy_terrabench_ext" else "raise ImportError('boom')\n"
+    (tmp_path / f"{module}.py").write_text(source)
     info = tmp_path / f"{module}-0.1.dist-info"
     info.mkdir()
     (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {module}\nVersion: 0.1\n")

@@ -133,7 +133,8 @@ def reference(plugin, tmp_path_factory):
 def test_sim_timeout_and_default_budget():
     spec = plan("cwc-tdt")[0]
     assert sim_timeout(spec) == 1.0
-    assert default_wall_budget(spec) == pytest.approx(runner.BUDGET_OVERHEAD_S + runner.BUDGET_SAFETY / runner.MEASURED_RTF)
+    assert default_wall_budget(spec) == pytest.approx(
+        runner.BUDGET_OVERHEAD_S + runner.BUDGET_SAFETY / runner.MEASURED_RTF)
     released = SYSTEM.plan(methods=["cwc-tdt"], instances=["A-01"])[0]
     assert sim_timeout(released) == 1000.0 and 300 < default_wall_budget(released) < 600
     unknown = TrialSpec("nosuch", "x", "m", "i", 0, {})
@@ -157,7 +158,8 @@ def test_describe_and_faults():
     s = RunSummary(requested=6, skipped=0, finished=6, statuses={"timeout": 5, "error": 1}, wall_time=12.34,
                    retried=1, worker_deaths=2, rerun_errors=2, errors={"worker died: signal 9 (SIGKILL)": 1})
     assert s.faults == 1
-    assert s.describe() == ("6 trials requested, 0 already stored, 6 run in 12.3 s; statuses {'timeout': 5, 'error': 1}; "
+    assert s.describe() == ("6 trials requested, 0 already stored, 6 run in 12.3 s; "
+                            "statuses {'timeout': 5, 'error': 1}; "
                             "1 retried after a worker died; 1 error (worker died: signal 9 (SIGKILL)); "
                             "2 error rows from earlier runs retried")
     assert RunSummary(2, 2).faults == 0 and "already stored" in RunSummary(2, 2).describe()

@@ -32,7 +32,8 @@ def test_result_rejects_unknown_status_and_ragged_series():
 
 def test_roundtrip_row_config_and_series(tmp_path):
     spec = TrialSpec("mrs-cwc", "sc", "m", "A-01", 0, {"a": {"b": 1.5}})
-    res = TrialResult("timeout", {"NCR": 0.5, "NEC": float("nan")}, {"t": np.arange(3.0), "x": np.array([1.0, np.nan, 3.0])}, 2.0, {"why": "x"})
+    res = TrialResult("timeout", {"NCR": 0.5, "NEC": float("nan")},
+                      {"t": np.arange(3.0), "x": np.array([1.0, np.nan, 3.0])}, 2.0, {"why": "x"})
     with ResultsStore(tmp_path / "r.duckdb") as st:
         st.write(spec, res)
         st.write(spec, res)  # same key twice: still one row
@@ -148,7 +149,8 @@ def test_a_method_is_keyed_by_the_config_sections_it_reads():
     base = {s.method: s for s in SYSTEM.plan(methods=["all"], instances=["A-01"])}
     assert "stiffness" not in base["d-tdt"].config and "follow" in base["d-tdt"].config
     assert "planner" not in base["cwc-astar"].config  # released waypoints: the planner is unused
-    changed = {s.method: s for s in SYSTEM.plan(methods=["all"], instances=["A-01"], overrides={"follow.speed_gain": 4.0})}
+    changed = {s.method: s
+               for s in SYSTEM.plan(methods=["all"], instances=["A-01"], overrides={"follow.speed_gain": 4.0})}
     moved = sorted(m for m in base if base[m].key != changed[m].key)
     assert moved == ["d-astar", "d-tdt"]
     planner = SYSTEM.plan(methods=["cwc-astar"], instances=["A-01"], overrides={"waypoint_source": "planner"})[0]

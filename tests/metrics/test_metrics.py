@@ -55,7 +55,8 @@ def test_moving_away_gives_zero_ncr_and_undefined_nec():
 
 
 def test_group_summary_counts_every_trial():
-    trials = [{"success": 1.0, "NCR": 1.0, "NEF": 0.8, "NEC": 200.0}] * 3 + [{"success": 0.0, "NCR": 0.5, "NEF": 0.4, "NEC": float("nan")}]
+    trials = ([{"success": 1.0, "NCR": 1.0, "NEF": 0.8, "NEC": 200.0}] * 3
+              + [{"success": 0.0, "NCR": 0.5, "NEF": 0.4, "NEC": float("nan")}])
     s = group_summary(trials)
     assert s["n"] == 4 and s["NSR"] == 75.0
     assert s["NCR"] == pytest.approx(87.5) and s["NEF"] == pytest.approx(0.7) and s["NEC"] == pytest.approx(200.0)

@@ -55,7 +55,8 @@ def test_a_plugin_method_runs_through_the_normal_runner(plugin, tmp_path, flat_t
         (row,) = st.rows()
         ts = st.timeseries(row["key"])
     assert row["status"] == "timeout" and row["method"] == "straight-tdt"
-    assert np.all(ts["K"][:-1] == 50.0)  # (the last sample ends the trial: no command) the plugin's stiffness reached the model's yaw springs
+    # (the last sample ends the trial: no command) the plugin's stiffness reached the model's yaw springs
+    assert np.all(ts["K"][:-1] == 50.0)
 
 
 def test_unknown_body_law_is_refused():

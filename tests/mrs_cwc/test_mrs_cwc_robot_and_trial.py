@@ -62,7 +62,7 @@ def test_every_method_runs_two_seconds_without_trouble(mid, flat_terrain):
 def test_flat_straight_run_reaches_the_target_with_nef_near_one(flat_terrain):
     cfg = override(MRSConfig(), {"protocol.target_xy": [3.0, 0.0], "protocol.timeout": 60.0})
     r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
-    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
+    status, m, series, _info = r.status, r.metrics, r.timeseries, r.info
     assert status == "success"
     assert m["NCR"] == 1.0
     # the 0.5 m drop at the start adds ~0.5 m to a ~2.5 m journey
@@ -75,7 +75,7 @@ def test_flat_straight_run_reaches_the_target_with_nef_near_one(flat_terrain):
 def test_the_yaw_stiffness_reaches_the_model_and_bends_follow_the_law(flat_terrain):
     cfg = override(MRSConfig(), {"protocol.target_xy": [0.0, 5.0], "protocol.timeout": 20.0})
     r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
-    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
+    _status, _m, series, _info = r.status, r.metrics, r.timeseries, r.info
     k = series["K"][np.isfinite(series["K"])]
     assert k[0] == pytest.approx(0.03 * 5 + 0.97 * 0.1, rel=1e-6)
     assert np.all((k > 0) & (k <= 100))
@@ -96,7 +96,7 @@ def test_instability_ends_the_trial_as_diverged(flat_terrain):
     # any speed above 0.01 is declared a blow-up: the wheels spin at 1.5 rad/s within a second
     cfg = override(MRSConfig(), {"physics.max_speed": 0.01, "protocol.timeout": 5.0})
     r = trial.run(get_method("cwc-tdt"), flat_terrain, cfg)
-    status, m, series, info = r.status, r.metrics, r.timeseries, r.info
+    status, _m, _series, info = r.status, r.metrics, r.timeseries, r.info
     assert status == "diverged" and "speed" in info["reason"]
 
 
@@ -287,7 +287,8 @@ def test_the_bumper_ground_switch_only_removes_bumper_terrain_contact():
     from terrabench.terrain.mjcf import GROUND_BIT
 
     for touches in (True, False):
-        t = trial.bound(get_method("cwc-tdt"), dataset.get("A-03"), override(MRSConfig(), {"chain.bumper_touches_ground": touches}))
+        cfg = override(MRSConfig(), {"chain.bumper_touches_ground": touches})
+        t = trial.bound(get_method("cwc-tdt"), dataset.get("A-03"), cfg)
         m = t.model
         g = int(np.flatnonzero(m.geom_bodyid == m.body("bumper").id)[0])
         assert bool(m.geom_conaffinity[g] & GROUND_BIT) == touches

@@ -88,9 +88,11 @@ def test_mujoco_surface_matches_the_heights():
     "text, match",
     [
         ("Size,Height\n0.05,0.1\n", "missing column"),
-        ("Size,XY Proportion,Height,Ch1 Freq,Ch1 Ampl,Ch1 Phase,Ch2 Freq,Ch2 Ampl,Ch2 Phase,Ch3 Freq,Ch3 Ampl,Ch3 Phase\n"
+        ("Size,XY Proportion,Height,Ch1 Freq,Ch1 Ampl,Ch1 Phase,Ch2 Freq,Ch2 Ampl,Ch2 Phase,"
+         "Ch3 Freq,Ch3 Ampl,Ch3 Phase\n"
          "0.05,0.5,abc,1,1,1,1,1,1,1,1,1\n", "non-numeric"),
-        ("Size,XY Proportion,Height,Ch1 Freq,Ch1 Ampl,Ch1 Phase,Ch2 Freq,Ch2 Ampl,Ch2 Phase,Ch3 Freq,Ch3 Ampl,Ch3 Phase\n"
+        ("Size,XY Proportion,Height,Ch1 Freq,Ch1 Ampl,Ch1 Phase,Ch2 Freq,Ch2 Ampl,Ch2 Phase,"
+         "Ch3 Freq,Ch3 Ampl,Ch3 Phase\n"
          "-1,0.5,0.1,1,1,1,1,1,1,1,1,1\n", "size must be a positive"),
     ],
 )

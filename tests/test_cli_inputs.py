@@ -165,6 +165,17 @@ def test_render_refusals_come_before_any_episode(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_an_impossible_frame_size_is_one_line_before_the_episode(tmp_path):
+    from terrabench.report.render import GLUnavailable, check_frame_fits
+
+    try:
+        check_frame_fits(64, 48)
+    except GLUnavailable as exc:
+        pytest.skip(str(exc))
+    res = invoke("render", "mrs-cwc", "--terrain", "A-01", "--width", "100000", "--out", str(tmp_path / "w.png"))
+    one_error_line(res, "100000x480")  # one line: no progress bar was started
+
+
 def test_an_impossible_frame_size_is_one_line():
     import mujoco
 

@@ -413,7 +413,14 @@ def render(
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
     from terrabench.paths import check_out_file
-    from terrabench.report.render import VIDEO_SUFFIXES, check_frame_size, check_gl_env, check_renderable
+    from terrabench.report.render import (
+        VIDEO_SUFFIXES,
+        GLUnavailable,
+        check_frame_fits,
+        check_frame_size,
+        check_gl_env,
+        check_renderable,
+    )
 
     check_out_file(out, suffixes=VIDEO_SUFFIXES)
     if not (fps > 0) or fps == float("inf"):
@@ -426,6 +433,10 @@ def render(
     check_gl_env()
     sysobj = get_system(system)
     check_renderable(sysobj)
+    try:
+        check_frame_fits(width, height)
+    except GLUnavailable as exc:
+        raise ValueError(f"{exc}; set MUJOCO_GL=egl (Mesa) or MUJOCO_GL=osmesa (libosmesa6)") from None
     overrides = parse_overrides(set_ or [])
     _limit_overrides(sysobj, overrides, timeout=timeout)
     spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,

@@ -217,6 +217,14 @@ def check_frame_size(path: str | Path, width: int, height: int) -> None:
                          f"{width + width % 2}x{height + height % 2}; .gif and .png take any size")
 
 
+def check_frame_fits(width: int, height: int) -> None:
+    """ValueError (one line) if this machine's offscreen framebuffer cannot hold a ``width`` x
+    ``height`` frame: tried on an empty model (tens of ms) so that it fails before an episode.
+    No GL at all (:class:`GLUnavailable`) is left to the caller, which reports it its own way."""
+    model = mujoco.MjModel.from_xml_string("<mujoco/>")
+    SceneRenderer(model, width, height).close()
+
+
 def frame_times(control_period: float, n_periods: int, fps: float | None, every: int | None) -> list[int]:
     """Control-period indices (0 .. n_periods - 1) at which a frame is grabbed.
 

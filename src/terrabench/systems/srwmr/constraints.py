@@ -162,7 +162,7 @@ def load_ratios(loads, sc: Scales) -> tuple[float, float]:
     return w_diff(loads) / sc.w_diff, w_fmr(loads) / sc.w_fmr
 
 
-def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
-    """MC#2: largest mismatch between the commanded rim speeds and the speeds the suspension
-    motion requires (m/s), over v2."""
-    return float(np.max(np.abs(np.asarray(v_cmd) - np.asarray(v_kin)))) / sc.v2
+def mc2_ratio(v_meas: np.ndarray, v_coord: np.ndarray, sc: Scales) -> float:
+    """MC#2: largest mismatch between the measured rim speeds and the coordinated rim speeds the
+    mode commands while the suspension moves (m/s), over v2."""
+    return float(np.max(np.abs(np.asarray(v_meas) - np.asarray(v_coord)))) / sc.v2

@@ -87,6 +87,9 @@ class SupervisorConfig:
         health_slip: body-slip health limit [S 0.96].  health_s: held this long (s).
         slip_tau: time constant of the body-slip estimate (s).
         steer_tol: steering error below which wheels roll (rad).
+        rcm_rim_ratio: RCM rolling-set rim speed per unit chassis vertical speed [S Task 4: "the
+            velocities of the middle and rear wheels are set to 7.0 mm/s ... when the command
+            velocity of the robot chassis is 3.6 mm/s"] (a floor over the kinematic speed).
     """
 
     reply_s: float | None = 2.0
@@ -97,6 +100,7 @@ class SupervisorConfig:
     health_s: float = 5.0
     slip_tau: float = 5.0
     steer_tol: float = 0.05
+    rcm_rim_ratio: float = 7.0 / 3.6
 
 
 @dataclass
@@ -370,6 +374,7 @@ class RoverController:
             rate = self._rate_for(obs, st.vz * 2, hi)
             # the front wheels stay where they are: v_b = -J_front,x * rate
             vx = -float(np.mean(J[0:2, 0] * rate))
+            self._rolling = ([2, 3, 4, 5], self.sup.rcm_rim_ratio * st.vz * 2)
         else:
             if np.max(obs.delta) <= base + 0.004:
                 self.phase = 0
@@ -378,6 +383,7 @@ class RoverController:
                     return np.zeros(5), True
             rate = self._rate_for(obs, st.vz * 2, base)
             vx = -float(np.mean(J[2:6, 0] * np.repeat(rate, 2)))
+            self._rolling = ([0, 1], self.sup.rcm_rim_ratio * st.vz * 2)
         return np.array([vx, 0.0, 0.0, rate[0], rate[1]]), False
 
     # ---------------------------------------------------------------- supervisor actions
@@ -412,11 +418,14 @@ class RoverController:
         r = np.zeros(len(mc.NAMES))
         sc = self.sc
         dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
-        # MC2: measured rim speeds of the grounded wheels against the kinematics of the measured rates
-        if np.any(np.abs(obs.ddelta) > 1e-4) and hasattr(self, "_rim_cmd"):
-            side = np.array([0, 1, 0, 1, 0, 1])
-            v_kin = self.u_prev[0] + J[:, 0] * obs.ddelta[side]
-            r[0] = mc.mc2_ratio(self._rim_cmd * np.cos(obs.mu), v_kin, sc)
+        # MC2: while the suspension moves, the measured rim speeds against the coordinated rim speeds
+        # the mode commanded (the wheels keep up with the suspension motion)
+        # (filtered over 0.5 s: a wheel needs a moment to follow a new command)
+        if hasattr(self, "_rim_cmd"):
+            now = mc.mc2_ratio(self.robot.wheel_radius * obs.spin, self._rim_cmd, sc)
+            self._mc2 = getattr(self, "_mc2", 0.0) + (self.ts / 0.5) * (now - getattr(self, "_mc2", 0.0))
+            if np.any(np.abs(obs.ddelta) > 1e-4):
+                r[0] = self._mc2
         r[1] = float(np.max((self.robot.front_len - wb) / self.robot.front_len))
         r[2] = mc.eta_roll(dz * obs.delta, sc)
         r[3] = mc.eta_yaw(wb, sc)
@@ -454,6 +463,13 @@ class RoverController:
         mu, spin = inverse_kinematics(
             self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
         )
+        rolling = getattr(self, "_rolling", None)
+        if rolling is not None:
+            # RCM: the rolling set turns at least at the paper's wheel/chassis speed ratio (it must slip
+            # to pull: a wheel at the kinematic rim speed has zero slip and only rolling resistance)
+            idx, v_rim = rolling
+            spin[idx] = np.maximum(spin[idx], v_rim / self.robot.wheel_radius)
+            self._rolling = None
         # a wheel whose steering is far from its target waits (no rolling against its heading)
         err = np.abs(mu - obs.mu)
         if np.max(err) > 0.15 and np.any(np.abs(u[:3]) > 0):

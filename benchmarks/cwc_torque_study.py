@@ -19,9 +19,9 @@ from rich.console import Console
 from rich.table import Table
 
 from terrabench.systems.base import run_task
-from terrabench.systems.mrs_cwc.task import MRSTask, make_controller
 from terrabench.systems.mrs_cwc.config import MRSConfig
 from terrabench.systems.mrs_cwc.methods import get_method
+from terrabench.systems.mrs_cwc.task import MRSTask, make_controller
 from terrabench.terrain import dataset
 
 

@@ -12,7 +12,6 @@ Usage: python benchmarks/rollover_study.py [--method cwc-tdt] [--group B] [--hor
 from __future__ import annotations
 
 import argparse
-
 from dataclasses import replace
 
 import numpy as np

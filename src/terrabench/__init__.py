@@ -8,7 +8,6 @@ The small public API::
 from __future__ import annotations
 
 from terrabench._version import __version__  # noqa: E402
-
 from terrabench.benchmark.trial import TrialResult, TrialSpec  # noqa: E402
 from terrabench.registry import REGISTRY  # noqa: E402
 

@@ -8,16 +8,31 @@ import numpy as np
 import pytest
 
 from terrabench.benchmark.trial import STATUSES, TrialSpec
-from terrabench.systems.beams import SYSTEM, register
-from terrabench.systems.beams.control import energy_cost
-from terrabench.systems.beams.estimation import (EstimatorConfig, SensingConfig, estimate, nelder_mead_batch,
-                                                 sense, sense_clean)
-from terrabench.systems.beams.geometry import _quad_form
-from terrabench.systems.beams.model import (Beam, BeamLayout, ModelConfig, RobotParams, contact_scalar,
-                                            critical_stiffness, deflection_vec, generalized_forces, potential_energy,
-                                            simulate)
 from terrabench.config import override
+from terrabench.systems.beams import SYSTEM, register
 from terrabench.systems.beams.config import TrialConfig
+from terrabench.systems.beams.control import energy_cost
+from terrabench.systems.beams.estimation import (
+    EstimatorConfig,
+    SensingConfig,
+    estimate,
+    nelder_mead_batch,
+    sense,
+    sense_clean,
+)
+from terrabench.systems.beams.geometry import _quad_form
+from terrabench.systems.beams.model import (
+    Beam,
+    BeamLayout,
+    ModelConfig,
+    RobotParams,
+    contact_scalar,
+    critical_stiffness,
+    deflection_vec,
+    generalized_forces,
+    potential_energy,
+    simulate,
+)
 
 ROBOT, LAYOUT = RobotParams(), BeamLayout()
 POSES = [(-0.05, 0.0, 0.0), (-0.03, 0.2, 0.3), (0.0, 0.1, 0.5), (0.05, -0.3, 0.2), (-0.02, 0.4, -0.1)]
@@ -208,7 +223,7 @@ def test_plan_and_registry():
 
 def test_landscape_and_avoid_plan_is_contact_free():
     from terrabench.systems.beams.landscape import LandscapeConfig, build_landscape
-    from terrabench.systems.beams.planning import plan_path, PlannerConfig
+    from terrabench.systems.beams.planning import PlannerConfig, plan_path
     grid = LandscapeConfig(dx=0.004, dangle_deg=3.0)
     ls = build_landscape((Beam(0.25), Beam(0.27)), grid=grid)
     mid = grid.angles.size // 2
@@ -249,6 +264,7 @@ def test_stored_config_round_trips_and_holds_every_section():
 
 def test_changing_a_landscape_default_changes_the_key():
     from dataclasses import replace
+
     from terrabench.systems.beams.landscape import LandscapeConfig
     spec = SYSTEM.plan(group="traversal", instances=["stiff"], methods=["avoid"])[0]
     cfg = TrialConfig.from_dict(spec.config)

@@ -13,7 +13,8 @@ from collections import deque
 from typing import Any
 
 from terrabench.benchmark.trial import TrialSpec
-from terrabench.benchmark.worker import default_workers, execute, fault_result as _fault_result
+from terrabench.benchmark.worker import default_workers, execute
+from terrabench.benchmark.worker import fault_result as _fault_result
 
 #: Ray task retries after a worker death (Ray's own mechanism).
 RAY_MAX_RETRIES = 1

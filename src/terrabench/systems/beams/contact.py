@@ -9,7 +9,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .geometry import GRAVITY, Beam, BeamLayout, RobotParams, _quad_form, rotation, com_height
+from .geometry import GRAVITY, Beam, BeamLayout, RobotParams, _quad_form, com_height, rotation
 
 # --------------------------------------------------------------------------- scalar contact
 

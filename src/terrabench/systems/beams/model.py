@@ -40,11 +40,28 @@ stepping). This module is their one import point.
 
 from __future__ import annotations
 
-from .contact import (ContactState, beam_torque, contact_force_vec, contact_scalar, deflection_vec, first_contact_x,
-                      generalized_forces, potential_energy)
+from .contact import (
+    ContactState,
+    beam_torque,
+    contact_force_vec,
+    contact_scalar,
+    deflection_vec,
+    first_contact_x,
+    generalized_forces,
+    potential_energy,
+)
 from .dynamics import Controller, SimLog, SimulatedTimeout, simulate
-from .geometry import (GAP_READINGS, GRAVITY, Beam, BeamLayout, ModelConfig, RobotParams, com_height,
-                       critical_stiffness, rotation)
+from .geometry import (
+    GAP_READINGS,
+    GRAVITY,
+    Beam,
+    BeamLayout,
+    ModelConfig,
+    RobotParams,
+    com_height,
+    critical_stiffness,
+    rotation,
+)
 
 __all__ = ["GAP_READINGS", "GRAVITY", "Beam", "BeamLayout", "ContactState", "Controller", "ModelConfig",
            "RobotParams", "SimLog", "SimulatedTimeout", "beam_torque", "com_height", "contact_force_vec",

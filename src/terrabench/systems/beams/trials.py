@@ -16,8 +16,16 @@ from .config import CASES, TrialConfig
 from .control import TrackingController, energy_cost, hold_constant
 from .estimation import SensingConfig, estimate, estimate_preload, relative_errors, sense, sense_clean
 from .landscape import LandscapeConfig, build_landscape
-from .model import (Beam, BeamLayout, RobotParams, SimulatedTimeout, critical_stiffness, deflection_vec,
-                    first_contact_x, simulate)
+from .model import (
+    Beam,
+    BeamLayout,
+    RobotParams,
+    SimulatedTimeout,
+    critical_stiffness,
+    deflection_vec,
+    first_contact_x,
+    simulate,
+)
 from .planning import plan_path
 
 # --------------------------------------------------------------------------- pipelines

@@ -14,7 +14,6 @@ import numpy as np
 
 from terrabench.systems.mrs_cwc.robot import Names, drive_ref_dof
 
-
 _TWO_PI = 2 * np.pi
 
 

@@ -11,9 +11,9 @@ import mujoco
 import numpy as np
 
 from terrabench.metrics.navigation import navigation_metrics
+from terrabench.sim.checks import Stalled, fell
 from terrabench.sim.episode import Timing
 from terrabench.sim.scene import index_view, writer
-from terrabench.sim.checks import Stalled, fell
 from terrabench.systems.base import TaskBase
 from terrabench.systems.mrs_cwc import control as ctl
 from terrabench.systems.mrs_cwc.config import MRSConfig

@@ -19,14 +19,22 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence
 
-
 from terrabench.benchmark.trial import TrialResult, TrialSpec
 from terrabench.config import check_fields, param, to_dict
 from terrabench.soil.presets import HIT_MRII_WHEEL, MARS_SOFT, SOILS
 from terrabench.soil.terramechanics import SoilParams, WheelParams, steady_state
 from terrabench.systems.base import MethodInfo, System
-from terrabench.systems.soil.instances import (CMU_METHODS, LOADS, RIG_METHODS, SLIP_RANGE, SLIPS,  # noqa: F401
-                                               cmu_instances, instance_id, parse_cmu, parse_instance)
+from terrabench.systems.soil.instances import (  # noqa: F401
+    CMU_METHODS,
+    LOADS,
+    RIG_METHODS,
+    SLIP_RANGE,
+    SLIPS,
+    cmu_instances,
+    instance_id,
+    parse_cmu,
+    parse_instance,
+)
 from terrabench.systems.soil.task import GRAVITY, RigConfig
 
 SCENARIO = "soil/single-wheel-v1"

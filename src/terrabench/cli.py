@@ -298,7 +298,8 @@ def report(
 @friendly
 def perf(
     system: str = typer.Argument(..., help="system id, e.g. mrs-cwc"),
-    method: Optional[str] = typer.Option(None, help="method whose model and loop are timed (default: the system's first default method)"),
+    method: Optional[str] = typer.Option(None, help="method whose model and loop are timed "
+                                         "(default: the system's first default method)"),
     terrains: Optional[str] = typer.Option(None, help="instance ids (default: the system's perf sample)"),
     seconds: float = typer.Option(30.0, help="simulated seconds per measurement (systems with a time limit)"),
     repeats: int = typer.Option(2, help="loop and raw passes alternate this often; each keeps its fastest"),

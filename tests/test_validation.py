@@ -233,8 +233,9 @@ def test_env_refuses_non_finite_actions_and_clips_out_of_bounds_ones(env_id):
         env.step(np.zeros(n + 1))
     with pytest.raises(ValueError, match="numbers"):
         env.step(["a"] * n)
-    with pytest.raises(ValueError, match="numbers"):
+    with pytest.raises(ValueError, match="numbers") as err:
         env.step(np.zeros(n) + 1j)
+    assert "\n" not in str(err.value)
     # a refused action changes nothing: the same episode goes on
     huge = np.full(n, 1e9)
     _, _, _, _, info = env.step(huge)

@@ -226,8 +226,10 @@ class TerrabenchEnv(gymnasium.Env):
                 raise TypeError("complex")
             a = np.array(action, dtype=np.float64)
         except (TypeError, ValueError):
+            shown = " ".join(repr(action).split())
+            shown = shown if len(shown) <= 120 else shown[:117] + "..."
             raise ValueError(f"action must be an array of numbers of shape {self.action_space.shape}, "
-                             f"got {action!r}") from None
+                             f"got {shown}") from None
         if a.shape != self.action_space.shape:
             raise ValueError(f"action must have shape {self.action_space.shape}, got {a.shape}")
         bad = np.flatnonzero(~np.isfinite(a))

@@ -161,7 +161,8 @@ class RoverController:
     def _next(self, obs, reason: str) -> None:
         self.k += 1
         self.phase = 0
-        self.t_phase = obs.t
+        self.t_phase = obs.t  # MC#2 is judged from 1 s into an action (the wheels follow a new command)
+        self._mc2 = 0.0
         self.returning = False
         if self.k >= len(self.plan):
             self._enter(obs.t, "DONE", reason)
@@ -205,8 +206,18 @@ class RoverController:
             if rep is not None and waited >= rep:
                 self.halt_t = None
                 self.events.append(Transition(obs.t, "HALT", self.plan[self.k].mode, "operator replied: action ended"))
-                self.mode = self.plan[self.k].mode
-                self._next(obs, "operator: next action")
+                st = self.plan[self.k]
+                self.mode = st.mode
+                # the next action of this mode: the other RCM phase, the next WCM phase, else the plan's next step
+                if st.mode == "RCM":
+                    self.phase = 1 - self.phase
+                    self.cycle += self.phase == 0
+                elif st.mode == "WCM" and self.phase < 2:
+                    self.phase += 1
+                    if self.phase == 1:
+                        self.y_start = self._local(obs)[1]
+                else:
+                    self._next(obs, "operator: next action")
                 return self._command(obs, np.zeros(5), hold=True)
             if waited >= self.sup.wait_s or self.returning:
                 if not self.returning:
@@ -424,7 +435,7 @@ class RoverController:
         if hasattr(self, "_rim_cmd"):
             now = mc.mc2_ratio(self.robot.wheel_radius * obs.spin, self._rim_cmd, sc)
             self._mc2 = getattr(self, "_mc2", 0.0) + (self.ts / 0.5) * (now - getattr(self, "_mc2", 0.0))
-            if np.any(np.abs(obs.ddelta) > 1e-4):
+            if np.any(np.abs(obs.ddelta) > 1e-4) and obs.t - self.t_phase > 1.0:
                 r[0] = self._mc2
         r[1] = float(np.max((self.robot.front_len - wb) / self.robot.front_len))
         r[2] = mc.eta_roll(dz * obs.delta, sc)

@@ -86,7 +86,7 @@ class RobotConfig:
     steer_kp: float = 800.0  # range: (0, 1e5] N m/rad
     steer_kv: float = 80.0  # range: [0, 1e4] N m s/rad
     steer_torque: float = 200.0  # range: (0, 1e4] N m
-    drive_kv: float = 5000.0  # range: (0, 1e5] N m s/rad
+    drive_kv: float = 2000.0  # range: (0, 1e5] N m s/rad
     drive_torque: float = 120.0  # range: (0, 1e4] N m
     pivot_damping: float = 200.0  # range: [0, 1e4] N m s/rad (bogie and differential pivots)
     drive_armature: float = 1.0  # range: [0.01, 10] kg m^2 (geared motor's reflected inertia)

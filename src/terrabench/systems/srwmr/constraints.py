@@ -8,9 +8,9 @@ paper's threshold table is lost: the scales and kappa values here are reconstruc
 (docs/assumptions-srwmr.md), except MC#10 (W_diff <= 1100 N SWLM / 1300 N DWLM) and MC#11
 (W_fmr <= 700 N) which the paper states.
 
-MC#1 is a precondition (which wheels may be lifted); MC#2/#3 feasibility; MC#3-#9 enter the
-constraint-saturated IK (:mod:`terrabench.systems.srwmr.ik`) linearised one control step ahead;
-MC#10/#11 are monitored (the supervisor halts on them).
+MC#1 is a precondition (which wheels may be lifted); MC#2/#3 feasibility (MC#2 logged, MC#3 kept
+by the QP); MC#3-#9 enter the constraint-saturated IK (:mod:`terrabench.systems.srwmr.ik`)
+linearised one control step ahead; the supervisor halts on MC#4/#5 (posture) and MC#10/#11 (loads).
 """
 
 from __future__ import annotations
@@ -162,7 +162,7 @@ def load_ratios(loads, sc: Scales) -> tuple[float, float]:
     return w_diff(loads) / sc.w_diff, w_fmr(loads) / sc.w_fmr
 
 
-def mc2_ratio(v_meas: np.ndarray, v_coord: np.ndarray, sc: Scales) -> float:
-    """MC#2: largest mismatch between the measured rim speeds and the coordinated rim speeds the
-    mode commands while the suspension moves (m/s), over v2."""
-    return float(np.max(np.abs(np.asarray(v_meas) - np.asarray(v_coord)))) / sc.v2
+def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
+    """MC#2: largest mismatch between the commanded rim speeds and the speeds the suspension
+    motion requires (m/s), over v2 (a feasibility check of the command, logged)."""
+    return float(np.max(np.abs(np.asarray(v_cmd) - np.asarray(v_kin)))) / sc.v2

@@ -41,8 +41,11 @@ from terrabench.systems.srwmr.kinematics import (
 )
 from terrabench.systems.srwmr.robot import RobotConfig
 
-#: ratios the supervisor halts on (index into constraints.NAMES)
-MONITORED = np.array([n in ("MC2", "MC3", "MC4", "MC5", "MC10", "MC11") for n in mc.NAMES])
+#: ratios the supervisor halts on (index into constraints.NAMES): the stability margins of sec. 7.1,
+#: posture (MC#4, #5) and contact forces (MC#10, #11). MC#6-#9 are kept by the QP; MC#2 and #3 are
+#: "feasibility prerequisites ... not considered as stability-margin indicators" [S] (the QP keeps
+#: MC#3; MC#2 is logged).
+MONITORED = np.array([n in ("MC4", "MC5", "MC10", "MC11") for n in mc.NAMES])
 MODE_CODE = {"WRM": 0, "WCM": 1, "RCLM": 2, "RCM": 3, "SWLM": 4, "DWLM": 5, "HALT": 6, "REVERSE": 7, "DONE": 8}
 
 
@@ -161,8 +164,7 @@ class RoverController:
     def _next(self, obs, reason: str) -> None:
         self.k += 1
         self.phase = 0
-        self.t_phase = obs.t  # MC#2 is judged from 1 s into an action (the wheels follow a new command)
-        self._mc2 = 0.0
+        self.t_phase = obs.t
         self.returning = False
         if self.k >= len(self.plan):
             self._enter(obs.t, "DONE", reason)
@@ -429,14 +431,12 @@ class RoverController:
         r = np.zeros(len(mc.NAMES))
         sc = self.sc
         dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
-        # MC2: while the suspension moves, the measured rim speeds against the coordinated rim speeds
-        # the mode commanded (the wheels keep up with the suspension motion)
-        # (filtered over 0.5 s: a wheel needs a moment to follow a new command)
-        if hasattr(self, "_rim_cmd"):
-            now = mc.mc2_ratio(self.robot.wheel_radius * obs.spin, self._rim_cmd, sc)
-            self._mc2 = getattr(self, "_mc2", 0.0) + (self.ts / 0.5) * (now - getattr(self, "_mc2", 0.0))
-            if np.any(np.abs(obs.ddelta) > 1e-4) and obs.t - self.t_phase > 1.0:
-                r[0] = self._mc2
+        # MC2: while the suspension moves, the commanded rim speeds against the speeds the suspension
+        # motion requires (the RCM rolling set runs above them on purpose: it shows here)
+        if np.any(np.abs(obs.ddelta) > 1e-4) and hasattr(self, "_rim_cmd"):
+            side = np.array([0, 1, 0, 1, 0, 1])
+            v_kin = self.u_prev[0] + J[:, 0] * obs.ddelta[side]
+            r[0] = mc.mc2_ratio(self._rim_cmd * np.cos(obs.mu), v_kin, sc)
         r[1] = float(np.max((self.robot.front_len - wb) / self.robot.front_len))
         r[2] = mc.eta_roll(dz * obs.delta, sc)
         r[3] = mc.eta_yaw(wb, sc)

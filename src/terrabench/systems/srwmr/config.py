@@ -24,7 +24,7 @@ class SoilConfig:
     preset: str = param("", choices=("",) + SOIL_NAMES, doc="soil for every instance ('' = the instance's)")
     jitter: float = param(0.05, ge=0.0, le=0.3, doc="seeds > 0 scale k_phi and K by 1 +- this (uniform)")
     k_phi_scale: float = param(1.0, gt=0.2, le=5.0, doc="multiplies the soil's k_phi (study knob)")
-    v_eps: float = param(0.02, gt=0.0, le=0.05, unit="m/s", doc="slip regularising speed of the soil hook")
+    v_eps: float = param(0.004, gt=0.0, le=0.05, unit="m/s", doc="slip regularising speed of the soil hook")
     every: int = param(1, ge=1, le=4, doc="soil forces every k-th physics step")
     refresh: bool = param(True, choices=(True, False), doc="soil forces from the current (not one-step-old) velocities")
 
@@ -54,7 +54,7 @@ class ProtocolConfig:
 class SRWMRConfig:
     """Everything a trial needs besides (method, instance, seed)."""
 
-    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.002, iterations=30))
+    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.0005, iterations=30))
     robot: RobotConfig = field(default_factory=RobotConfig)
     soil: SoilConfig = field(default_factory=SoilConfig)
     scene: SceneConfig = field(default_factory=SceneConfig)

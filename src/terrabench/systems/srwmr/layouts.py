@@ -156,7 +156,7 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
         )
     if instance == "t8-speeds":
         plan = tuple(Step("WRM", v=v, dist=v * 60.0) for v in (0.005, 0.015, 0.025, 0.015, 0.005))
-        return Layout(flat, (), "loose", plan, None, 400.0, note="WRM 5/15/25/15/5 mm/s, 60 s each [S Task 8]")
+        return Layout(flat, (), "loose", plan, None, 700.0, note="WRM 5/15/25/15/5 mm/s, 60 s each [S Task 8]")
     if instance == "t14-obstacle":
         L, W, H = OBSTACLE
         near = a + r + MARGIN

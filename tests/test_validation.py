@@ -39,7 +39,7 @@ DEFAULT_HASHES = {
 
 
 #: systems whose fields are all declared with param() (the conversion lands system by system)
-CONVERTED: set[str] = {"mrs-cwc", "octopus", "soil", "beams"}
+CONVERTED: set[str] = {"mrs-cwc", "octopus", "soil", "beams", "srwmr"}
 
 
 def _converted(sid):

@@ -43,6 +43,7 @@ class Param:
         doc: one line saying what the field means.
         choices: the only values allowed (strings or numbers), None = any.
         length: exact number of entries of a list field, None = any.
+        optional: None (null) is also allowed (it means "off"; the field's doc says what).
     """
 
     ge: float | None = None
@@ -53,6 +54,7 @@ class Param:
     doc: str = ""
     choices: tuple[Any, ...] | None = None
     length: int | None = None
+    optional: bool = False
 
     def bounds_text(self) -> str:
         """The numeric range alone, e.g. ``> 0``, ``in [0, 1]``, ``>= 1``; '' if unbounded."""
@@ -126,16 +128,18 @@ def _show(value: Any) -> str:
 def param(default: Any = dataclasses.MISSING, *, ge: float | None = None, gt: float | None = None,
           le: float | None = None, lt: float | None = None, unit: str = "", doc: str = "",
           choices: typing.Iterable[Any] | None = None, length: int | None = None,
-          default_factory: Any = dataclasses.MISSING) -> Any:
+          default_factory: Any = dataclasses.MISSING, optional: bool = False) -> Any:
     """A dataclass ``field()`` that declares its valid range and one-line meaning.
 
     Numbers must be finite and inside the bounds (``ge``/``gt``/``le``/``lt``); a list field's
     bounds hold for every entry and ``length`` fixes its number of entries; ``choices`` lists the
-    only values allowed. Checked by :func:`validate`; read back with :func:`spec_of`.
+    only values allowed; ``optional`` also allows None (a field whose default is None is optional
+    anyway). Checked by :func:`validate`; read back with :func:`spec_of`.
     """
     if ge is not None and gt is not None or le is not None and lt is not None:
         raise TypeError("param: give at most one lower bound (ge or gt) and one upper bound (le or lt)")
-    meta = {_META: Param(ge, gt, le, lt, unit, doc, tuple(choices) if choices is not None else None, length)}
+    meta = {_META: Param(ge, gt, le, lt, unit, doc, tuple(choices) if choices is not None else None, length,
+                         optional)}
     return dataclasses.field(default=default, default_factory=default_factory, metadata=meta)
 
 
@@ -146,11 +150,11 @@ def spec_of(f: dataclasses.Field) -> Param | None:
 
 def check_value(key: str, value: Any, spec: Param, default: Any = None) -> None:
     """ConfigError naming ``key`` unless ``value`` satisfies ``spec`` (``default`` gives the kind)."""
-    if value is None and default is None:  # an optional field (``float | None = None``) left unset
+    if value is None and (default is None or spec.optional):  # an optional field set to null
         return
 
     def fail(problem: str) -> ConfigError:  # the message is built only for a bad value
-        valid = spec.describe(default) + (", or null" if default is None else "")
+        valid = spec.describe(default) + (", or null" if default is None or spec.optional else "")
         return ConfigError(key, value, valid, problem=problem)
 
     if spec.choices is not None:

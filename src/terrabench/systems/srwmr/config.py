@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from terrabench.config import param
+from terrabench.config import check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import Scales
@@ -28,6 +28,9 @@ class SoilConfig:
     every: int = param(1, ge=1, le=4, doc="soil forces every k-th physics step")
     refresh: bool = param(True, choices=(True, False), doc="soil forces from the current (not one-step-old) velocities")
 
+    def __post_init__(self) -> None:
+        check_fields(self)
+
 
 @dataclass(frozen=True)
 class SceneConfig:
@@ -37,6 +40,9 @@ class SceneConfig:
     yaw_jitter_deg: float = param(1.0, ge=0.0, le=10.0, unit="deg", doc="seeds > 0 turn the start by up to this")
     approach: float = param(0.6, ge=0.0, le=5.0, unit="m", doc="front wheels to the slope foot at the start")
     clearance: float = param(0.25, ge=0.15, le=0.55, unit="m", doc="start ground clearance [S 250 mm, 150-550 tested]")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -48,6 +54,9 @@ class ProtocolConfig:
     log_period: float = param(0.5, gt=0.0, le=10.0, unit="s", doc="stored series period")
     check_period: float = param(1.0, gt=0.0, le=10.0, unit="s", doc="slow check period")
     turn_over: float = param(0.7, gt=0.1, le=1.5, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from terrabench.config import check_fields, param
 from terrabench.systems.srwmr.robot import WHEELS
 
 #: MC#1: the lift sets the paper allows (single wheels, symmetric pairs, asymmetric pairs)
@@ -80,15 +81,18 @@ class Scales:
         w_diff: MC#10 W_diff scale (N) [S 1100 SWLM / 1300 DWLM]; w_fmr: MC#11 (N) [S 700].
     """
 
-    v2: float = 0.01
-    wb_min: float = 0.35
-    dh: float = 0.10
-    dd: float = 0.10
-    v_floor: float = 0.005
-    w_floor: float = 0.005
-    vz9: float = 0.01
-    w_diff: float = 1300.0
-    w_fmr: float = 700.0
+    v2: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#2 wheel-suspension speed mismatch scale")
+    wb_min: float = param(0.35, gt=0.0, le=2.0, unit="m", doc="MC#3 least front-middle axle distance (2 r + 50 mm)")
+    dh: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#4 left-right hinge-height asymmetry scale")
+    dd: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#5 left-right wheelbase asymmetry scale")
+    v_floor: float = param(0.005, gt=0.0, le=0.5, unit="m/s", doc="MC#6/#7 speed floor under the ratios")
+    w_floor: float = param(0.005, gt=0.0, le=0.5, unit="rad/s", doc="MC#8 yaw-rate floor")
+    vz9: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#9 left-right vertical speed difference scale")
+    w_diff: float = param(1300.0, gt=0.0, le=1e4, unit="N", doc="MC#10 W_diff scale [S 1100 SWLM / 1300 DWLM]")
+    w_fmr: float = param(700.0, gt=0.0, le=1e4, unit="N", doc="MC#11 W_fmr scale [S 700]")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 #: kappa per mode, in the order of NAMES (MC2 ... MC11); inf = not enforced in this mode. MC7 in the

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from terrabench.config import check_fields, param
 from terrabench.systems.base import Transition, events_info
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
@@ -95,15 +96,20 @@ class SupervisorConfig:
             velocity of the robot chassis is 3.6 mm/s"] (a floor over the kinematic speed).
     """
 
-    reply_s: float | None = 2.0
-    wait_s: float = 10.0
-    eff_window: float = 20.0
-    eff_min: float = 0.10
-    health_slip: float = 0.96
-    health_s: float = 5.0
-    slip_tau: float = 5.0
-    steer_tol: float = 0.05
-    rcm_rim_ratio: float = 7.0 / 3.6
+    reply_s: float | None = param(2.0, ge=0.0, le=600.0, unit="s", optional=True,
+                                  doc="scripted operator's reply delay (null: never replies)")
+    wait_s: float = param(10.0, gt=0.0, le=600.0, unit="s", doc="an unanswered reminder reverses the mode after this")
+    eff_window: float = param(20.0, gt=0.0, le=600.0, unit="s", doc="climbing-efficiency window")
+    eff_min: float = param(0.10, ge=0.0, le=1.0, doc="WRM -> RCM below this climbing efficiency [S 10 %]")
+    health_slip: float = param(0.96, gt=0.0, le=1.0, doc="body-slip health limit [S 0.96]")
+    health_s: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="the health limit must hold this long")
+    slip_tau: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="time constant of the body-slip estimate")
+    steer_tol: float = param(0.05, gt=0.0, le=1.0, unit="rad", doc="wheels roll once steering errors are below this")
+    rcm_rim_ratio: float = param(7.0 / 3.6, ge=0.0, le=20.0,
+                                 doc="RCM rolling-set rim speed per chassis vertical speed [S Task 4: 7.0/3.6]")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import qpsolvers
 
+from terrabench.config import check_fields, param
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.kinematics import rocker_jacobian, wheelbase_front_middle
 from terrabench.systems.srwmr.robot import RobotConfig
@@ -39,11 +40,18 @@ class IKLimits:
         delta_range: closing angles the rockers may reach (rad).
     """
 
-    v_max: float = 0.06
-    w_max: float = 0.1
-    rate_max: float = 0.05
-    weights: tuple[float, float, float, float, float] = (1.0, 1.0, 1.0, 4.0, 4.0)
-    delta_range: tuple[float, float] = (-0.45, 1.15)
+    v_max: float = param(0.06, gt=0.0, le=1.0, unit="m/s", doc="body speed bound")
+    w_max: float = param(0.1, gt=0.0, le=2.0, unit="rad/s", doc="yaw-rate bound")
+    rate_max: float = param(0.05, gt=0.0, le=1.0, unit="rad/s", doc="rocker closing-rate bound")
+    weights: tuple[float, float, float, float, float] = param((1.0, 1.0, 1.0, 4.0, 4.0), gt=0.0, le=1e6, length=5,
+                                                              doc="QP weights W over (vx, vy, wz, rates L, R)")
+    delta_range: tuple[float, float] = param((-0.45, 1.15), ge=-3.14, le=3.14, length=2, unit="rad",
+                                             doc="closing angles the rockers may reach (lower, upper)")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
+        if not self.delta_range[0] < self.delta_range[1]:
+            raise ValueError(f"limits.delta_range={self.delta_range!r} is invalid; valid: lower < upper (rad)")
 
 
 @dataclass

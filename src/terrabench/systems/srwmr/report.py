@@ -124,14 +124,22 @@ def summary_table(rows):
     return t
 
 
-def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
+def write_report(store, out_dir: Path, system: Any) -> Path:
+    """Write the HIT-MRII report (``index.html``, CSVs, figures) from ``store``'s srwmr rows.
+
+    Rows run under other settings than the planned defaults (``--set``) get their own section
+    (:func:`terrabench.report.variants.settings_groups`), files suffixed with the group's slug.
+
+    Raises:
+        ValueError: no srwmr trials in the store, or ``out_dir`` cannot be written.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from terrabench.report.page import Page, provenance_html
-    from terrabench.report.timeline import draw_timelines
+    from terrabench.report.variants import Defaults, settings_groups
     from terrabench.systems.srwmr.soils import (
         FIT_K_LOOSE,
         FIT_K_PHI_VERY_LOOSE,
@@ -139,7 +147,9 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         TARGETS,
     )
 
-    rows = store.rows(system=system)
+    rows = store.rows(system=system.id)
+    if not rows:
+        raise ValueError(f"no srwmr trials in {store.path}; run `terrabench run srwmr --group tasks` first")
     page = Page(out_dir, "HIT-MRII reconfigurable rover (srwmr)")
     page.p(OPERATOR)
     page.h2("Soil calibration (the only fit: T1)")
@@ -149,13 +159,27 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         f"{FIT_K_LOOSE * 1000:.2f} mm (k_phi 1528 kN/m^3) for {TARGETS['loose']} (T1 range {T1_RANGES['loose']}). "
         "Every other task is a prediction."
     )
+    groups = settings_groups(rows, Defaults(system))
+    for g in groups:
+        if len(groups) > 1:
+            page.h2(f"Settings: {g.label} ({len(g.rows)} trials)")
+        _section(page, store, list(g.rows), g.slug, plt)
+    page.h2("Provenance")
+    page.raw(provenance_html(store, rows, system_id=system.id, default_config=Defaults(system)))
+    return page.finish()
+
+
+def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any) -> None:
+    """The tables, series and timelines of one settings group (file names end in ``slug``)."""
+    from terrabench.report.timeline import draw_timelines
+
     task_rows = [r for r in rows if not r["instance"].startswith("slope-")]
     lines = task_lines(task_rows)
     page.h2("Tasks: ours beside the paper")
-    page.table(lines, list(lines[0]) if lines else ["task"], csv_name="tasks.csv")
+    page.table(lines, list(lines[0]) if lines else ["task"], csv_name=f"tasks{slug}.csv")
     page.h2("T14: the obstacle task per mode")
     t14 = t14_lines(rows)
-    page.table(t14, list(t14[0]), csv_name="t14.csv")
+    page.table(t14, list(t14[0]), csv_name=f"t14{slug}.csv")
     ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
     page.p(
         "energy ordering, ours (least first): "
@@ -176,11 +200,11 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         for r in task_rows
     ]
     if qp:
-        page.table(qp, list(qp[0]), csv_name="qp_timing.csv")
+        page.table(qp, list(qp[0]), csv_name=f"qp_timing{slug}.csv")
     sl = slope_lines(rows)
     if sl:
         page.h2("Slopes: success and slip against the slope angle")
-        page.table(sl, list(sl[0]), csv_name="slopes.csv")
+        page.table(sl, list(sl[0]), csv_name=f"slopes{slug}.csv")
         fig, ax = plt.subplots(1, 2, figsize=(10, 3.5))
         for soil in sorted({d["soil"] for d in sl}):
             for meth in sorted({d["mode"] for d in sl}):
@@ -195,7 +219,7 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         ax[1].set_ylabel("body slip")
         ax[0].legend(fontsize="small")
         fig.tight_layout()
-        page.figure(fig, "slopes.png", "success rate and body slip vs slope")
+        page.figure(fig, f"slopes{slug}.png", "success rate and body slip vs slope")
         plt.close(fig)
     # series and the mode timeline, seed 0 of each (task, mode)
     page.h2("Series per trial (seed 0): slip, wheel loads, constraint ratios")
@@ -233,13 +257,13 @@ def write_report(store, out_dir: Path, system: str = "srwmr") -> Path:
         ax[2].legend(fontsize="x-small", ncol=3)
         fig.suptitle(f"{inst} / {meth} seed {r0['seed']}: {r0['status']} ({r0['info'].get('reason', '')})")
         fig.tight_layout()
-        page.figure(fig, f"ts_{inst}_{meth}.png", f"{inst} / {meth}: slip, wheel loads (truth), constraint ratios")
+        page.figure(fig, f"ts_{inst}_{meth}{slug}.png",
+                    f"{inst} / {meth}: slip, wheel loads (truth), constraint ratios")
         plt.close(fig)
     if timelines:
         fig, ax = plt.subplots(figsize=(10, 0.4 * len(timelines) + 1.2))
         draw_timelines(ax, timelines)
         fig.tight_layout()
-        page.figure(fig, "timeline.png", "mode timeline per trial (controller events: supervisor halts, RCM switch)")
+        page.figure(fig, f"timeline{slug}.png",
+                    "mode timeline per trial (controller events: supervisor halts, RCM switch)")
         plt.close(fig)
-    page.raw(provenance_html(store, rows, system_id=system))
-    return page.finish()

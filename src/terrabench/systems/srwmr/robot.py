@@ -28,6 +28,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from terrabench.config import check_fields, param
+
 SIDES = ("L", "R")
 #: wheel ids in order c1..c6 with (position, side): front/middle/rear x left/right
 WHEELS = ("c1", "c2", "c3", "c4", "c5", "c6")
@@ -63,63 +65,50 @@ class RobotConfig:
         rocker_range: rocker_s joint range (rad) (closing = negative).
     """
 
-    wheel_radius: float = 0.15  # range: [0.05, 0.5] m
-    wheel_width: float = 0.12  # range: [0.03, 0.4] m
-    track: float = 1.304  # range: [0.6, 2.5] m
-    hinge_track: float = 0.83  # range: [0.3, 1.5] m
-    front_len: float = 0.775  # range: [0.3, 1.5] m
-    rear_len: float = 0.3907  # range: [0.2, 1.0] m
-    bogie_half: float = 0.3875  # range: [0.16, 0.8] m (> wheel radius)
-    wheel_offset: float = 0.10  # range: [0, 0.3] m
-    pillar_front: float = 0.25  # range: [0.1, 0.6] m
-    chassis_size: tuple[float, float, float] = (0.6, 0.35, 0.15)  # range: each in [0.05, 1.5] m
-    chassis_mass: float = 155.0  # range: (0, 1000] kg
-    link_mass: float = 5.0  # range: (0, 50] kg
-    bogie_mass: float = 6.0  # range: (0, 50] kg
-    pillar_mass: float = 2.0  # range: (0, 20] kg
-    wheel_mass: float = 4.0  # range: (0, 20] kg
-    diff_mass: float = 1.0  # range: (0, 10] kg
-    z_ratio: float = 1.0 / 2.2  # range: (0, 2]
-    rocker_kp: float = 3.0e4  # range: (0, 1e6] N m/rad
-    rocker_kv: float = 3.0e3  # range: [0, 1e5] N m s/rad
-    rocker_torque: float = 2000.0  # range: (0, 1e4] N m
-    steer_kp: float = 800.0  # range: (0, 1e5] N m/rad
-    steer_kv: float = 80.0  # range: [0, 1e4] N m s/rad
-    steer_torque: float = 200.0  # range: (0, 1e4] N m
-    drive_kv: float = 2000.0  # range: (0, 1e5] N m s/rad
-    drive_torque: float = 120.0  # range: (0, 1e4] N m
-    pivot_damping: float = 200.0  # range: [0, 1e4] N m s/rad (bogie and differential pivots)
-    drive_armature: float = 1.0  # range: [0.01, 10] kg m^2 (geared motor's reflected inertia)
-    rocker_range: tuple[float, float] = (-1.2, 0.5)  # range: lower < 0 < upper, rad
+    wheel_radius: float = param(0.15, ge=0.05, le=0.5, unit="m", doc="wheel radius r [S 150 mm]")
+    wheel_width: float = param(0.12, ge=0.03, le=0.4, unit="m", doc="wheel width [R]")
+    track: float = param(1.304, ge=0.6, le=2.5, unit="m", doc="d_wt, left-right wheel-centre distance [S]")
+    hinge_track: float = param(0.83, ge=0.3, le=1.5, unit="m", doc="d_b, left-right rocker hinge distance [S]")
+    front_len: float = param(0.775, ge=0.3, le=1.5, unit="m", doc="d_r21, hinge to front steering axis [S]")
+    rear_len: float = param(0.3907, ge=0.2, le=1.0, unit="m", doc="d_r22, hinge to bogie pivot [S]")
+    bogie_half: float = param(0.3875, ge=0.16, le=0.8, unit="m", doc="bogie pivot to middle/rear steering axes [R]")
+    wheel_offset: float = param(0.10, ge=0.0, le=0.3, unit="m", doc="wheel centre offset from its steering axis [R]")
+    pillar_front: float = param(0.25, ge=0.1, le=0.6, unit="m", doc="front steering joint to axle [R]")
+    chassis_size: tuple[float, float, float] = param((0.6, 0.35, 0.15), ge=0.05, le=1.5, length=3, unit="m",
+                                                     doc="half sizes of the body box [R]")
+    chassis_mass: float = param(155.0, gt=0.0, le=1000.0, unit="kg", doc="chassis mass [R: 225 kg in all, S]")
+    link_mass: float = param(5.0, gt=0.0, le=50.0, unit="kg", doc="rocker section mass [R]")
+    bogie_mass: float = param(6.0, gt=0.0, le=50.0, unit="kg", doc="bogie mass [R]")
+    pillar_mass: float = param(2.0, gt=0.0, le=20.0, unit="kg", doc="steering pillar mass [R]")
+    wheel_mass: float = param(4.0, gt=0.0, le=20.0, unit="kg", doc="wheel mass [R]")
+    diff_mass: float = param(1.0, gt=0.0, le=10.0, unit="kg", doc="differential mass [R]")
+    z_ratio: float = param(1.0 / 2.2, gt=0.0, le=2.0, doc="front/rear rocker rate ratio z [S 1/2.2]")
+    rocker_kp: float = param(3.0e4, gt=0.0, le=1e6, unit="N m/rad", doc="rocker servo stiffness")
+    rocker_kv: float = param(3.0e3, ge=0.0, le=1e5, unit="N m s/rad", doc="rocker servo damping")
+    rocker_torque: float = param(2000.0, gt=0.0, le=1e4, unit="N m", doc="rocker motor torque limit")
+    steer_kp: float = param(800.0, gt=0.0, le=1e5, unit="N m/rad", doc="steering servo stiffness")
+    steer_kv: float = param(80.0, ge=0.0, le=1e4, unit="N m s/rad", doc="steering servo damping")
+    steer_torque: float = param(200.0, gt=0.0, le=1e4, unit="N m", doc="steering torque limit")
+    drive_kv: float = param(2000.0, gt=0.0, le=1e5, unit="N m s/rad", doc="wheel velocity servo gain")
+    drive_torque: float = param(120.0, gt=0.0, le=1e4, unit="N m", doc="wheel motor torque limit")
+    pivot_damping: float = param(200.0, ge=0.0, le=1e4, unit="N m s/rad",
+                                 doc="bogie and differential pivot damping")
+    drive_armature: float = param(1.0, ge=0.01, le=10.0, unit="kg m^2", doc="geared wheel motor reflected inertia [R]")
+    rocker_range: tuple[float, float] = param((-1.2, 0.5), ge=-3.14, le=3.14, length=2, unit="rad",
+                                              doc="rocker joint range (closing < 0 < opening)")
 
     def __post_init__(self) -> None:
-        for name in (
-            "wheel_radius",
-            "wheel_width",
-            "track",
-            "hinge_track",
-            "front_len",
-            "rear_len",
-            "bogie_half",
-            "pillar_front",
-            "chassis_mass",
-            "wheel_mass",
-            "z_ratio",
-            "drive_kv",
-            "drive_torque",
-        ):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"robot.{name}={v!r} is invalid; valid: a positive finite number")
+        check_fields(self)
         if self.bogie_half <= self.wheel_radius:
             raise ValueError(
                 f"robot.bogie_half={self.bogie_half!r} is invalid; valid: > wheel_radius "
                 f"{self.wheel_radius} m (the middle and rear wheels would overlap)"
             )
-        if not (0 <= self.wheel_offset <= 0.3):
-            raise ValueError(f"robot.wheel_offset={self.wheel_offset!r} is invalid; valid range: [0, 0.3] m")
         if not (self.rear_len > self.bogie_half):
             raise ValueError(f"robot.rear_len={self.rear_len!r} is invalid; valid: > bogie_half {self.bogie_half} m")
+        lo, hi = self.rocker_range
+        if not lo < 0.0 < hi:
+            raise ValueError(f"robot.rocker_range={self.rocker_range!r} is invalid; valid: lower < 0 < upper (rad)")
 
     # derived geometry -------------------------------------------------------------
     @property

@@ -117,7 +117,7 @@ class SRWMRSystem(System):
     def report(self, store, out_dir: Path) -> Path:
         from terrabench.systems.srwmr.report import write_report
 
-        return write_report(store, Path(out_dir), system=self.id)
+        return write_report(store, Path(out_dir), system=self)
 
 
 SYSTEM = SRWMRSystem()

@@ -106,3 +106,16 @@ def test_settings_groups_split_by_settings_not_by_method_or_instance():
             _row("m", "b", {"k": 2, "speed": 3.0, "reading": "edge"}, "h3")]
     gs = settings_groups(rows, defaults, ignore=("reading",))
     assert [(g.label, g.slug == "", len(g.rows)) for g in gs] == [("defaults", True, 2), ("speed=3.0", False, 1)]
+
+
+def test_snapshots_of_a_trial_this_version_cannot_run_are_a_note(tmp_path):
+    from terrabench.benchmark.trial import TrialSpec
+    from terrabench.systems.mrs_cwc.scenarios import SYSTEM
+
+    spec = SYSTEM.plan(methods=["cwc-tdt"], instances=["A-01"], overrides={"protocol.timeout": 0.5})[0]
+    old = TrialSpec(spec.system, spec.scenario, spec.method, spec.instance, 0,
+                    {**spec.config, "protocol": {**spec.config["protocol"], "removed_field": 1.0}})
+    page = Page(tmp_path, "T")
+    assert page.snapshots("s.png", "caption", SYSTEM, old, [0.0]) is False
+    text = page.finish().read_text()
+    assert "Snapshots skipped: the stored trial cannot be re-run" in text and "removed_field" in text

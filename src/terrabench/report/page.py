@@ -168,13 +168,18 @@ class Page:
                   **kwargs: Any) -> bool:
         """Render a strip of ``spec``'s episode at ``times`` as ``name`` and show it with ``caption``
         (:func:`terrabench.report.render.snapshot_strip`; ``kwargs``: width, height, overlay, track).
-        Without headless GL the page says so in one note instead; returns whether it rendered."""
+        Without headless GL, or for a stored trial whose config this version cannot run (a field
+        since removed), the page says so in one note instead; returns whether it rendered."""
         from terrabench.report.render import GLUnavailable, snapshot_strip
 
         try:
             snapshot_strip(system, spec, times, self.out_dir / name, **kwargs)
         except GLUnavailable as exc:
             self.note(f"Snapshots skipped: {exc}. Set MUJOCO_GL=egl (Mesa) or MUJOCO_GL=osmesa (libosmesa6).")
+            return False
+        except ValueError as exc:  # a stored config this version cannot run any more (a field since removed)
+            self.note(f"Snapshots skipped: the stored trial cannot be re-run by this version ({exc}); "
+                      "the tables and figures above come from the stored rows.")
             return False
         self.image(name, caption)
         return True

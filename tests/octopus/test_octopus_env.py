@@ -21,6 +21,12 @@ def test_check_env_passes_and_the_observation_is_the_sensing_boundary():
         check_env(env.unwrapped)
     assert set(env.observation_space.spaces) == {"imu", "q_flip", "q_arm", "tau_flip", "tau_elbow", "time"}
     assert env.action_space.shape == (18,)
+    obs, _ = env.reset(seed=0)
+    for _ in range(20):  # turn in place: the gyro's yaw rate is the third IMU entry
+        obs, *_ = env.step(np.r_[-0.1, 0.1, np.zeros(16)])
+    sensed = env.unwrapped.sensed
+    assert obs["imu"].shape == (3,)
+    assert obs["imu"].tolist() == [sensed.roll, sensed.pitch, sensed.yaw_rate] and sensed.yaw_rate > 0
     env.close()
 
 

@@ -1,8 +1,9 @@
 """Gymnasium glue of the OCTOPUS crawler (``terrabench/Octopus-v1``): spaces, mapping, reward.
 
-Observation (a ``Dict`` of float64 boxes), exactly the sensing boundary: ``imu`` = [roll, pitch]
-(rad; no yaw, no position), ``q_flip`` (4,) flipper angles, ``q_arm`` (12,) arm joints (swing,
-boom, elbow per arm LF, RF, LR, RR), ``tau_flip`` (4,) and ``tau_elbow`` (4,) joint torques
+Observation (a ``Dict`` of float64 boxes), exactly the sensing boundary: ``imu`` = [roll, pitch,
+yaw rate] (rad, rad, rad/s from the gyro: the heading hold's input; no yaw angle, no position),
+``q_flip`` (4,) flipper angles, ``q_arm`` (12,) arm joints (swing, boom, elbow per arm LF, RF,
+LR, RR), ``tau_flip`` (4,) and ``tau_elbow`` (4,) joint torques
 (N m), ``time`` (s).
 
 Action (one flat float64 ``Box``, 18 entries): left/right track speed in
@@ -34,7 +35,7 @@ class OctopusEnvAdapter:
         self.progress_weight, self.energy_weight, self.success_bonus = progress_weight, energy_weight, success_bonus
 
     def observation_space(self, task) -> spaces.Dict:
-        return spaces.Dict({"imu": _box(2), "q_flip": _box(4), "q_arm": _box(12), "tau_flip": _box(4),
+        return spaces.Dict({"imu": _box(3), "q_flip": _box(4), "q_arm": _box(12), "tau_flip": _box(4),
                             "tau_elbow": _box(4), "time": _box(1)})
 
     def action_space(self, task) -> spaces.Box:
@@ -54,7 +55,7 @@ class OctopusEnvAdapter:
         self._s = task.progress()[0]
 
     def observation(self, obs) -> dict[str, np.ndarray]:
-        return {"imu": np.array([obs.roll, obs.pitch]), "q_flip": np.array(obs.q_flip, float),
+        return {"imu": np.array([obs.roll, obs.pitch, obs.yaw_rate]), "q_flip": np.array(obs.q_flip, float),
                 "q_arm": np.array(obs.q_arm, float).ravel(), "tau_flip": np.array(obs.tau_flip, float),
                 "tau_elbow": np.array(obs.tau_elbow, float), "time": np.array([obs.t])}
 

@@ -101,6 +101,13 @@ def test_bad_csv_gets_a_clear_error(text, match):
         dataset.parse_rows(text, "x.csv")
 
 
+def test_a_csv_path_that_is_a_folder_or_missing_says_which(tmp_path):
+    with pytest.raises(ValueError, match="is a folder; give one CSV file"):
+        dataset.load_csv(tmp_path)
+    with pytest.raises(ValueError, match="terrain CSV not found"):
+        dataset.load_csv(tmp_path / "none.csv")
+
+
 def test_unknown_ids_and_groups_name_the_valid_ones():
     with pytest.raises(ValueError, match="A-01 ... A-50"):
         dataset.get("C-01")

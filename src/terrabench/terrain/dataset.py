@@ -183,6 +183,8 @@ def generate(
 def load_csv(path: str | Path) -> list[SineSumParams]:
     """Terrains from a user's CSV in the released format."""
     p = Path(path)
+    if p.is_dir():
+        raise ValueError(f"terrain CSV {str(p)!r} is a folder; give one CSV file in the released format")
     if not p.is_file():
         raise ValueError(f"terrain CSV not found: {str(p)!r}")
     return parse_rows(p.read_text(), str(p))

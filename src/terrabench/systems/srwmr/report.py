@@ -164,9 +164,37 @@ def write_report(store, out_dir: Path, system: Any) -> Path:
         if len(groups) > 1:
             page.h2(f"Settings: {g.label} ({len(g.rows)} trials)")
         _section(page, store, list(g.rows), g.slug, plt)
+        _snapshots(page, system, list(g.rows), g.slug)
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id=system.id, default_config=Defaults(system)))
     return page.finish()
+
+
+#: at most this much of each mode's first trial is re-run for its snapshots (s, simulated)
+SNAPSHOT_SPAN = 30.0
+
+
+def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) -> None:
+    """Four frames of each mode's first stored trial (seed order), re-run from its stored config:
+    t = 0 and thirds of its first ``SNAPSHOT_SPAN`` seconds (a note instead without GL)."""
+    from terrabench.benchmark.trial import TrialSpec
+
+    firsts: dict[str, dict[str, Any]] = {}
+    for r in sorted(rows, key=lambda r: (r["seed"], r["instance"])):
+        if not r["instance"].startswith("slope-"):
+            firsts.setdefault(r["method"], r)
+    if not firsts:
+        return
+    page.h3("Snapshots of each mode")
+    for meth, r in sorted(firsts.items()):
+        span = min(float(r["metrics"].get("sim_time", 0.0) or 0.0), SNAPSHOT_SPAN)
+        times = [round(span * k / 3, 2) for k in range(4)]
+        spec = TrialSpec(system.id, r["scenario"], meth, r["instance"], r["seed"], r["config"])
+        page.snapshots(f"snap_{meth}{slug}.png",
+                       f"{meth.upper()} on {r['instance']} (seed {r['seed']}) at t = "
+                       f"{', '.join(f'{t:g}' for t in times)} s, re-run from the stored config "
+                       "(<code>terrabench render srwmr</code> makes a clip)",
+                       system, spec, times, width=320, height=240)
 
 
 def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any) -> None:

@@ -177,15 +177,11 @@ class OctopusTask(TaskBase):
         self.obs = Observation(model, data)
         pr = self.cfg.protocol
         self._stall = Stalled(pr.stuck_time, pr.stuck_progress)
-        self._hold = 0.0
         self._hold_n = int(round(pr.success_hold / pr.control_period))
         self._on_top_n = 0
         c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
-        self._axis = np.array([c, s])
-        self._perp = np.array([-s, c])
         self._axis_f = ((c, s), (-s, c))
         self._prog_t, self._prog = -1.0, (0.0, 0.0)
-        self._margin = float("nan")
         # the evaluation-only columns (margin, tip contacts) are computed on the rows the store
         # keeps (every log period, and the last): the same stored series at a fifth of the cost
         self._row_k = 0
@@ -261,9 +257,9 @@ class OctopusTask(TaskBase):
         sv[self._rot_ids, 5] = v[side] * gain
 
     def apply(self, cmd: Command) -> None:
-        # crawler power limit: the speed of a side is cut so that its traction force (sampled on
-        # the stored rows) times the speed stays within robot.track_power
-        v, f, pmax = self._v, self._track_force, self.cfg.robot.track_power
+        # crawler power limit: the speed of a side is cut so that its traction force (now, every
+        # control tick) times the speed stays within robot.track_power
+        v, f, pmax = self._v, self._traction(), self.cfg.robot.track_power
         for i in (0, 1):
             vi, fi = float(cmd.track[i]), float(f[i])
             if fi > 1e-6 and abs(vi) * fi > pmax:
@@ -282,21 +278,6 @@ class OctopusTask(TaskBase):
         else:  # actuators 0..15 in order: clip in place
             np.clip(c, ctrl - self._dq, ctrl + self._dq, out=ctrl)
 
-    def margin(self) -> float:
-        """Static stability margin (m) over every current ground contact (evaluation only)."""
-        d = self.data
-        n = d.ncon
-        if n == 0:
-            return float("nan")
-        geom = d.contact.geom[:n]
-        g = self.ground
-        sel = g[geom[:, 0]] ^ g[geom[:, 1]]
-        if sel.sum() == 0:
-            return float("nan")
-        pts = d.contact.pos[:n][sel, :2]
-        cog = d.subtree_com[self.chassis, :2]
-        return stability_margin(pts, cog)
-
     def sample(self) -> tuple[float, float, float, float, float]:
         """Ground-truth figures of the current contacts (evaluation only, on the stored rows):
         (static margin over the load-filtered support polygon at a quasi-static instant, else
@@ -306,32 +287,19 @@ class OctopusTask(TaskBase):
         The support polygon holds the contacts of geoms that carried > SUPPORT_LOAD N within
         the last SUPPORT_MEMORY s (a grazing or bouncing contact is no support); quasi-static:
         chassis speed < QS_SPEED m/s, angular speed < QS_RATE rad/s and the normal ground load
-        within QS_LOAD of the weight (no impact, no fling). The traction force of each side is
-        kept for the crawler power limit.
+        within QS_LOAD of the weight (no impact, no fling). The crawler power is that of this
+        tick's traction (:meth:`_traction`, updated in :meth:`apply`).
         """
         d = self.data
         n, t = d.ncon, float(d.time)
         nan = float("nan")
-        gr = self.ground
-        geom = d.contact.geom[:n]
-        sel = np.nonzero(gr[geom[:, 0]] ^ gr[geom[:, 1]])[0]
+        sel, rg, f = self._ground_contacts()
+        power = self._track_power()
         if not len(sel):
-            self._track_force = np.zeros(2)
-            return nan, nan, 0.0, nan, 0.0
-        g1, g2 = geom[sel, 0], geom[sel, 1]
-        rg = np.where(gr[g1], g2, g1)  # the robot's geom of each robot-ground contact
-        f = self._contact_forces(sel)
+            return nan, nan, 0.0, nan, power
         fn = f[:, 0]
         total = float(fn.sum())
         self._loaded_t[rg[fn > SUPPORT_LOAD]] = t
-        # traction of each side: tangential contact force along the chassis x axis
-        fr = d.contact.frame[:n][sel].reshape(-1, 3, 3)
-        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
-        tx = np.abs(f[:, 1] * (fr[:, 1] @ ax) + f[:, 2] * (fr[:, 2] @ ax))
-        sd = self._side_of[rg]
-        on = sd >= 0
-        self._track_force = fx = np.bincount(sd[on], weights=tx[on], minlength=2)
-        power = abs(fx[0] * self._v[0]) + abs(fx[1] * self._v[1])
         v = d.qvel[:6]
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
@@ -344,8 +312,43 @@ class OctopusTask(TaskBase):
             m_load, m_all = (stability_margin(pts[keep], cog) if keep.any() else nan), nan
         else:
             m_load, m_all = nan, stability_margin(pts, cog)
+        on = self._side_of[rg] >= 0
         share = float(fn[on].sum()) / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
+
+    def _ground_contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Robot-ground contacts now: (indices into ``data.contact``, the robot geom of each,
+        their (k, 3) contact-frame forces)."""
+        d, gr = self.data, self.ground
+        geom = d.contact.geom[:d.ncon]
+        sel = np.nonzero(gr[geom[:, 0]] ^ gr[geom[:, 1]])[0]
+        if not len(sel):
+            return sel, sel, np.empty((0, 3))
+        g1, g2 = geom[sel, 0], geom[sel, 1]
+        return sel, np.where(gr[g1], g2, g1), self._contact_forces(sel)
+
+    def _traction(self) -> np.ndarray:
+        """Each crawler side's traction force now (N): the tangential ground-contact force along
+        the chassis x axis, summed over the side's track and flipper contacts. Kept for the power
+        limit and the crawler power in ``energy``, so both follow the control period, not the
+        logging period."""
+        sel, rg, f = self._ground_contacts()
+        if not len(sel):
+            self._track_force = np.zeros(2)
+            return self._track_force
+        d = self.data
+        fr = d.contact.frame[sel].reshape(-1, 3, 3)
+        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
+        tx = np.abs(f[:, 1] * (fr[:, 1] @ ax) + f[:, 2] * (fr[:, 2] @ ax))
+        sd = self._side_of[rg]
+        on = sd >= 0
+        self._track_force = np.bincount(sd[on], weights=tx[on], minlength=2)
+        return self._track_force
+
+    def _track_power(self) -> float:
+        """The crawlers' drive power (W): this tick's traction force x the commanded track speed."""
+        fx, v = self._track_force, self._v
+        return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
 
     def _contact_forces(self, sel: np.ndarray) -> np.ndarray:
         """(k, 3) contact-frame forces (normal, two tangential) of the contacts ``sel`` (N).
@@ -394,10 +397,10 @@ class OctopusTask(TaskBase):
                 m_all, quasi, share, tpow, qa[1, 0], qa[1, 1], qa[1, 2], qa[3, 0], qa[3, 1], qa[3, 2])
 
     def power(self, obs: Observation) -> float:
-        """Servo power |tau qdot| summed, plus the crawlers' drive power (traction force x speed,
-        sampled on the stored rows and held between them)."""
+        """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
+        force x the commanded track speed)."""
         d = self.data
-        return float(np.dot(np.abs(d.actuator_force), np.abs(d.actuator_velocity))) + self._sample[4]
+        return float(np.dot(np.abs(d.actuator_force), np.abs(d.actuator_velocity))) + self._track_power()
 
     def metrics(self, log) -> dict[str, float]:
         """Extremes of attitude; the static margin (load-filtered polygon) at quasi-static

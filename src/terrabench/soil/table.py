@@ -14,6 +14,8 @@ checked in tests/soil/test_soil_table.py.
 
 from __future__ import annotations
 
+import functools
+
 import numba
 import numpy as np
 
@@ -139,3 +141,9 @@ class SoilTable:
         if load > w[-1]:
             return float(self.z_max + (load - w[-1]) / self.dWdz_end[j, 0])
         return float(np.interp(load, w, self.z))
+
+
+@functools.lru_cache(maxsize=16)
+def cached_table(soil, wheel) -> SoilTable:
+    """The look-up table of a (soil, wheel) pair, built once per process (both are frozen)."""
+    return SoilTable(soil, wheel)

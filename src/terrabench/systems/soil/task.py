@@ -10,7 +10,6 @@ slip the rig actually ran at.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import mujoco
@@ -20,7 +19,7 @@ from terrabench.config import check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.soil.mujoco_soil import SoilWheels, flat_ground
-from terrabench.soil.table import SoilTable
+from terrabench.soil.table import cached_table
 from terrabench.soil.terramechanics import SoilParams, WheelParams
 from terrabench.systems.base import TaskBase
 
@@ -75,12 +74,6 @@ def add_rig(spec: mujoco.MjSpec, wheel: WheelParams, load: float, cfg: RigConfig
         act = spec.add_actuator(name=name, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.set_to_velocity(kv=kv)
 
-@functools.lru_cache(maxsize=8)
-def soil_table(soil: SoilParams, wheel: WheelParams) -> SoilTable:
-    """The (sinkage, slip) look-up table of a soil and wheel, built once per process."""
-    return SoilTable(soil, wheel)
-
-
 COLUMNS = ("DP_N", "torque_Nm", "sinkage_m", "slip", "v_mps", "omega")
 
 
@@ -107,7 +100,7 @@ class RigTask(TaskBase):
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData):
         self.model, self.data = model, data
-        table = soil_table(self.soil, self.wheel)
+        table = cached_table(self.soil, self.wheel)
         self.soil_wheels = SoilWheels(model, data, ["wheel"], self.wheel, table, flat_ground(), nominal_load=self.load)
         self.before_substep = self.soil_wheels.before_substep
         cdof, wdof = model.joint("carriage_x").dofadr[0], model.joint("wheel_spin").dofadr[0]

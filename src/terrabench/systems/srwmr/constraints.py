@@ -58,14 +58,6 @@ def mc1_check(lifted) -> None:
         )
 
 
-def mc1_ok(lifted) -> bool:
-    try:
-        mc1_check(lifted)
-        return True
-    except ValueError:
-        return False
-
-
 @dataclass(frozen=True)
 class Scales:
     """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md).
@@ -118,11 +110,6 @@ def thresholds(mode: str) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------- ratios
-def eta_wheelbase(wb: np.ndarray, wb0: float, sc: Scales) -> np.ndarray:
-    """MC#3 per side: wheelbase reduction (wb0 - wb) over the admissible reduction (wb0 - wb_min)."""
-    return (wb0 - np.asarray(wb, float)) / (wb0 - sc.wb_min) * ((wb0 - sc.wb_min) / wb0)
-
-
 def eta_roll(h: np.ndarray, sc: Scales) -> float:
     """MC#4: |h_L - h_R| / dh (hinge-height asymmetry of the sides)."""
     return abs(float(h[0] - h[1])) / sc.dh

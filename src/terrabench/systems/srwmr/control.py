@@ -27,6 +27,7 @@ Mode changes are :class:`~terrabench.systems.base.Transition` records (``info()[
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -146,12 +147,12 @@ class RoverController:
         self.origin = None
         self.reminders: dict[str, int] = {}
         self.halt_t: float | None = None
-        self.halt_reason = ""
         self.returning = False
         self.stop = ""
         self.sb = 0.0
         self.vb_f = self.vc_f = 0.0
-        self.hist: list[tuple[float, float, float]] = []  # (t, x_progress, commanded progress)
+        # (t, x_progress, commanded progress), trimmed every step to what the efficiency window reads
+        self.hist: deque[tuple[float, float, float]] = deque()
         self.cmd_prog = 0.0
         self.health_t: float | None = None
 
@@ -170,7 +171,6 @@ class RoverController:
     def _next(self, obs, reason: str) -> None:
         self.k += 1
         self.phase = 0
-        self.t_phase = obs.t
         self.returning = False
         if self.k >= len(self.plan):
             self._enter(obs.t, "DONE", reason)
@@ -178,7 +178,6 @@ class RoverController:
             return
         st = self.plan[self.k]
         self.step_start = (obs.xy.copy(), obs.yaw, obs.delta.copy(), obs.t)
-        self.travelled = 0.0
         self.cycle = 0
         self._enter(obs.t, st.mode, reason)
 
@@ -274,10 +273,14 @@ class RoverController:
             else:
                 self.health_t = None
             self.cmd_prog += v_cmd * ts
-            self.hist.append((obs.t, x, self.cmd_prog))
-            if st.auto_rcm and obs.t - self.hist[0][0] >= self.sup.eff_window:
-                while self.hist and obs.t - self.hist[0][0] > self.sup.eff_window:
-                    self.hist.pop(0)
+            hist, window = self.hist, self.sup.eff_window
+            hist.append((obs.t, x, self.cmd_prog))
+            # an entry older than one that is already a window old is never read again
+            while len(hist) > 1 and obs.t - hist[1][0] >= window:
+                hist.popleft()
+            if st.auto_rcm and obs.t - hist[0][0] >= window:
+                while hist and obs.t - hist[0][0] > window:
+                    hist.popleft()
                 t0, x0, c0 = self.hist[0]
                 eff = (x - x0) / max(self.cmd_prog - c0, 1e-6)
                 if eff < self.sup.eff_min:

@@ -64,13 +64,6 @@ class SRWMRSystem(System):
     def scenario(self, method: str, instance: str) -> str:
         return SLOPE_SCENARIO if instance.startswith("slope-") else SCENARIO
 
-    def resolve_config(self, overrides=None):
-        cfg = super().resolve_config(overrides)
-        from terrabench.config import validate
-
-        validate(cfg)
-        return cfg
-
     def plan(
         self,
         *,

@@ -14,6 +14,7 @@ import math
 import mujoco
 import numpy as np
 
+from terrabench.sim.checks import roll_pitch
 from terrabench.systems.srwmr.robot import SIDES, WHEELS, Names
 
 FIELDS = ("t", "delta", "ddelta", "phi", "zeta", "mu", "spin", "tau", "load", "rpy", "gyro", "xy", "yaw", "v_body")
@@ -22,10 +23,8 @@ FIELDS = ("t", "delta", "ddelta", "phi", "zeta", "mu", "spin", "tau", "load", "r
 def rpy_from_quat(q) -> tuple[float, float, float]:
     """Roll, pitch (nose up > 0), yaw (rad) of a (w, x, y, z) quaternion."""
     w, x, y, z = q
-    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = -math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
-    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return roll, pitch, yaw
+    roll, pitch = roll_pitch(q)
+    return roll, pitch, math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
 
 
 class Observation:
@@ -65,7 +64,6 @@ class Observation:
         self._ft = np.array([int(model.sensor_adr[model.sensor(Names.ft(c)).id]) for c in WHEELS])
         self._quat = int(model.sensor_adr[model.sensor(Names.QUAT).id])
         self._gyro = int(model.sensor_adr[model.sensor(Names.GYRO).id])
-        self._pillar = np.array([model.site(Names.ft(c)).id for c in WHEELS])
         self._chassis = model.body(Names.CHASSIS).id
         # gravity compensation of the F/T reading: the weight of the pillar and wheel below the sensor
         g = float(np.linalg.norm(model.opt.gravity))

@@ -9,15 +9,16 @@ for stop checks, logging and metrics (never by the controller).
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 
 import mujoco
 import numpy as np
 
+from terrabench.sim.checks import turned_over
 from terrabench.sim.episode import Timing
-from terrabench.soil import SoilTable, SoilWheels, flat_ground, hfield_ground
+from terrabench.soil import SoilWheels, flat_ground, hfield_ground
 from terrabench.soil.presets import HIT_MRII_WHEEL
+from terrabench.soil.table import cached_table
 from terrabench.systems.base import TaskBase
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
@@ -42,11 +43,6 @@ COLUMNS = (
     + ("DP", "P_drive")
     + tuple(f"eta_{n}" for n in mc.NAMES)
 )
-
-
-@functools.lru_cache(maxsize=16)
-def soil_table(soil, wheel) -> SoilTable:
-    return SoilTable(soil, wheel)
 
 
 def trial_soil(name: str, cfg: SRWMRConfig, seed: int):
@@ -127,7 +123,7 @@ class SRWMRTask(TaskBase):
                 rgba=[0.55, 0.3, 0.25, 1],
             )
         spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
-        self.table = soil_table(self.soil, HIT_MRII_WHEEL)
+        self.table = cached_table(self.soil, HIT_MRII_WHEEL)
         self.z_sink = self.table.static_sinkage(r.total_mass * 9.81 / 6)
         x0, y0, yaw = self.start
         hz = r.hinge_height - self.z_sink + (self.cfg.scene.clearance - r.clearance)
@@ -171,10 +167,9 @@ class SRWMRTask(TaskBase):
         return self.obs.refresh()
 
     def check(self, obs: Observation, slow: bool):
-        roll, pitch = obs.rpy[0], obs.rpy[1]
-        lim = self.cfg.protocol.turn_over
-        if abs(roll) > lim or abs(pitch) > lim:
-            return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {lim} rad"
+        over = turned_over(obs.rpy[0], obs.rpy[1], self.cfg.protocol.turn_over)
+        if over is not None:
+            return over
         x = float(self.data.xpos[self.chassis, 0])
         goal = self.layout.goal_x
         cmd = self.last_cmd

@@ -7,7 +7,8 @@ import json
 
 import pytest
 
-from terrabench.report.page import MANIFEST, Page, check_out_dir, provenance_html, table_html
+from terrabench.paths import check_out_dir
+from terrabench.report.page import MANIFEST, Page, provenance_html, table_html
 from terrabench.report.timeline import segments
 from terrabench.report.variants import find_variants, settings_diff, tag_rows
 

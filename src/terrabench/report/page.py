@@ -22,9 +22,11 @@ import datetime as _dt
 import html
 import json
 import math
-import os
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
+
+from terrabench.paths import check_out_dir
+from terrabench.report.variants import settings_diff
 
 #: what a page wrote last time (pruned on the next report into the same folder)
 MANIFEST = ".terrabench-report.json"
@@ -37,24 +39,6 @@ CSS = (
     "img{max-width:100%}small{color:#777}pre{background:#f6f6f6;padding:.5em;font-size:80%}"
     "figure{margin:1em 0}figcaption{font-size:90%;color:#333}"
 )
-
-
-def check_out_dir(out_dir: str | Path) -> Path:
-    """``out_dir`` as a folder a report can be written into (created if missing).
-
-    Raises:
-        ValueError: it exists and is not a folder, or it cannot be created or written to.
-    """
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out {str(out)!r} is an existing file; give a folder for the report")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ValueError(f"--out {str(out)!r} cannot be created ({exc.strerror or exc})") from None
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise ValueError(f"--out {str(out)!r} is not writable; give a folder you can write to")
-    return out
 
 
 def cell(v: Any, digits: int = 4) -> str:
@@ -99,7 +83,8 @@ class Page:
     """The HTML body being assembled, and the files written beside it.
 
     Args:
-        out_dir: the report folder (checked with :func:`check_out_dir`).
+        out_dir: the report folder (checked with :func:`terrabench.paths.check_out_dir`, then
+            created if missing).
         title: the page title and its heading.
         outputs: names of files earlier versions of this report wrote without a manifest;
             removed when this report does not write them (the manifest covers the rest).
@@ -107,6 +92,7 @@ class Page:
 
     def __init__(self, out_dir: str | Path, title: str, outputs: Iterable[str] = ()):
         self.out_dir = check_out_dir(out_dir)
+        self.out_dir.mkdir(parents=True, exist_ok=True)
         self.title = title
         self.legacy_outputs = tuple(outputs)
         self.written: set[str] = set()
@@ -213,17 +199,6 @@ class Page:
         return index
 
 
-def flatten(cfg: dict[str, Any], prefix: str = "") -> dict[str, Any]:
-    """Nested config dict -> ``{"protocol.timeout": 2.0, ...}``."""
-    out: dict[str, Any] = {}
-    for k, v in cfg.items():
-        if isinstance(v, dict):
-            out.update(flatten(v, f"{prefix}{k}."))
-        else:
-            out[f"{prefix}{k}"] = v
-    return out
-
-
 def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: str,
                     default_config: Callable[[str, str], dict[str, Any] | None] | None = None,
                     extra: Sequence[str] = ()) -> str:
@@ -236,7 +211,6 @@ def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: st
         extra: more ``<li>`` lines (HTML) for the list.
     """
     from terrabench._version import __version__
-    from terrabench.benchmark.trial import canonical_json
 
     configs: dict[str, dict[str, Any]] = {}
     first: dict[str, dict[str, Any]] = {}
@@ -267,9 +241,7 @@ def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: st
             r0 = first[h]
             d = default_config(r0["method"], r0.get("instance", ""))
             if d is not None:
-                flat, base = flatten(cfg), flatten(d)
-                diff = [f"{k}={flat.get(k)!r}" for k in sorted(set(flat) | set(base))
-                        if canonical_json(flat.get(k)) != canonical_json(base.get(k))]
+                diff = [f"{k}={v!r}" for k, v in settings_diff(cfg, d).items()]
                 diff_text = f"; differs from this version's defaults in: {'; '.join(diff) or 'nothing'}"
         parts.append(
             f"<details id='cfg-{h}'><summary><code>{h}</code>: {counts[h]} trial(s), methods "

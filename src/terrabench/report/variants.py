@@ -23,9 +23,19 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
 from terrabench.benchmark.trial import canonical_json
-from terrabench.report.page import flatten
 
 _ABSENT = "<absent>"
+
+
+def flatten(cfg: dict[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Nested config dict -> ``{"protocol.timeout": 2.0, ...}``."""
+    out: dict[str, Any] = {}
+    for k, v in cfg.items():
+        if isinstance(v, dict):
+            out.update(flatten(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
 
 
 class Defaults:

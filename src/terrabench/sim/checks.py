@@ -11,8 +11,6 @@ import math
 
 from terrabench.sim.stall import StallWatch
 
-Stop = "tuple[str, str] | None"
-
 
 def roll_pitch(quat) -> tuple[float, float]:
     """Roll (left side up > 0) and pitch (nose up > 0) in rad of a body quaternion (w, x, y, z)

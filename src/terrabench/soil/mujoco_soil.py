@@ -270,7 +270,6 @@ class SoilWheels:
         if disable_contact:
             disable_rigid_contact(model, self.bodies)
         self.refresh = bool(refresh)
-        self._model = model
         kind = getattr(self.ground, "kind", _CALLBACK)
         self._gmode = kind if kind in (_FLAT, _HFIELD) else _CALLBACK
         self._gh = np.ascontiguousarray(getattr(self.ground, "h", np.zeros((2, 2))), dtype=float)

@@ -355,12 +355,6 @@ def slip_from_speeds(v, r_omega, v_eps: float = 1e-3):
     return np.clip((rw - v) / den, SLIP_MIN, SLIP_MAX)
 
 
-def lateral_ratio(s, tan_beta):
-    """C = |v_y| / max(r omega, v_x) for slip s and slip angle tan(beta) = v_y / v_x (-)."""
-    s = np.asarray(s, float)
-    return np.abs(np.asarray(tan_beta, float)) * np.where(s >= 0, 1.0 - s, 1.0)
-
-
 def entry_angle(z, radius: float):
     """theta_1 = arccos(1 - z/r) (rad) for sinkage z (m), clipped to [0, pi/2]."""
     return np.arccos(np.clip(1.0 - np.asarray(z, dtype=float) / radius, 0.0, 1.0))

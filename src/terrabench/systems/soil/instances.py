@@ -9,14 +9,16 @@ import re
 import numpy as np
 
 from terrabench.soil.presets import SOILS
+from terrabench.soil.terramechanics import SLIP_MAX, SLIP_MIN
+from terrabench.systems.soil.cmu import METHODS as CMU_METHODS  # noqa: F401 - the CMU methods, re-exported
+from terrabench.systems.soil.cmu import points
 
 LOADS = (50.0, 100.0, 150.0, 370.0)
 SLIPS = (-1.0, -0.5, -0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)
 #: documented slip range of an instance: -1 (locked wheel) to 1 (spinning in place)
-SLIP_RANGE = (-1.0, 1.0)
+SLIP_RANGE = (SLIP_MIN, SLIP_MAX)
 _ID = re.compile(r"(?P<soil>[a-z_]+)/W(?P<load>[0-9.]+)/s(?P<slip>-?[0-9.]+)")
 _CMU_ID = re.compile(r"cmu/b(?P<beta>[0-9]+)/t(?P<trial>[0-9]+)")
-CMU_METHODS = ("cmu-authors", "cmu-fit-b0")
 RIG_METHODS = ("rig", "analytic")
 
 
@@ -42,8 +44,6 @@ def instance_id(soil: str, load: float, slip: float) -> str:
 
 def parse_cmu(iid: str) -> int:
     """``"cmu/b30/t012"`` -> trial index 12 (checked against the data); ValueError otherwise."""
-    from terrabench.systems.soil.cmu import points
-
     m = _CMU_ID.fullmatch(iid)
     if not m:
         raise ValueError(f"cmu instance {iid!r} must look like cmu/b<slip angle>/t<trial>, e.g. cmu/b30/t012")
@@ -58,8 +58,6 @@ def parse_cmu(iid: str) -> int:
 
 
 def cmu_instances() -> list[str]:
-    from terrabench.systems.soil.cmu import points
-
     p = points()
     order = np.lexsort((p["slip"], p["beta_deg"]))
     return [f"cmu/b{int(p['beta_deg'][i])}/t{int(p['trial'][i]):03d}" for i in order]

@@ -14,9 +14,8 @@ def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     return arm_tip_local(np.asarray(q, float), cfg, k)
 
 
-_SX = np.array([CORNER[k][0] for k in ARMS], float)
-_SY = np.array([CORNER[k][1] for k in ARMS], float)
-_SXL, _SYL = _SX.tolist(), _SY.tolist()
+_SXL = [float(CORNER[k][0]) for k in ARMS]
+_SYL = [float(CORNER[k][1]) for k in ARMS]
 
 
 def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
@@ -61,8 +60,3 @@ def rotation_rc(roll: float, pitch: float) -> np.ndarray:
     cp, sp = math.cos(-pitch), math.sin(-pitch)
     # Ry(-pitch) @ Rx(roll), multiplied out
     return np.array([[cp, sp * sr, sp * cr], [0.0, cr, -sr], [-sp, cp * sr, cp * cr]])
-
-
-def tips_level(q_arm: np.ndarray, roll: float, pitch: float, cfg: RobotConfig) -> np.ndarray:
-    """(4, 3) tip positions in {C} (origin of {R}, axes level) (m), arms LF, RF, LR, RR."""
-    return fk_all(q_arm, cfg) @ rotation_rc(roll, pitch).T

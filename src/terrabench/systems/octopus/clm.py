@@ -318,7 +318,6 @@ class CLMController:
         self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
         self.tau_ref = np.zeros(4)
         self.t3 = np.zeros(4)
-        self.h = 0.0
         self.contact = np.zeros(4, bool)
         self.tip_c = np.zeros((4, 3))
         self.tip_r = np.zeros((4, 3))
@@ -535,7 +534,6 @@ class CLMController:
         cfg, c = self.cfg, self.cmd
         c.track[:] = cfg.climb_track_speed
         h = cog_height(self.tip_c[2:], cfg.h2)
-        self.h = h
         if self.state == CLIMB:
             if h >= self.h_est:
                 self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)

@@ -54,6 +54,7 @@ def test_list_statuses_explains_every_status():
     assert res.exit_code == 0, res.output
     for s in STATUSES:
         assert s in res.output
+    assert "protocol.turn_over" in res.output and "protocol.fall_z" in res.output  # the systems' own notes
 
 
 def test_list_unknown_system_is_one_line():

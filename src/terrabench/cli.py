@@ -115,9 +115,10 @@ def list_cmd(
     from terrabench.catalog import populate
 
     if statuses:
+        from terrabench.catalog import system as get_system
         from terrabench.describe import statuses_table
 
-        console.print(statuses_table())
+        console.print(statuses_table([get_system(sid) for sid in populate().ids("system")]))
         return
     if system is not None:
         from terrabench.catalog import system as get_system

@@ -14,16 +14,15 @@ from typing import Any
 from terrabench.benchmark.trial import STATUSES
 from terrabench.config import fields_info
 
-#: what each trial status means (one entry per :data:`terrabench.benchmark.trial.STATUSES`)
+#: what each trial status means for every system (one entry per
+#: :data:`terrabench.benchmark.trial.STATUSES`); what it means for one system is that system's
+#: ``System.status_notes`` (shown beside it by ``terrabench list --statuses``)
 STATUS_MEANINGS = {
-    "success": "the task's goal was reached (mrs-cwc: leader within protocol.success_threshold of the target; "
-               "octopus: on top, past the edge and stable for protocol.success_hold; beams: passed the beams)",
+    "success": "the task's goal was reached",
     "timeout": "the simulated-time limit (--timeout) ran out first; the robot may still have been making progress",
-    "fell": "the robot left the world (mrs-cwc: leader below protocol.fall_z) or, beams, the body rolled or "
-            "pitched past 90 deg",
-    "stuck": "no progress for the system's stall time (octopus: protocol.stuck_time; mrs-cwc: only with the "
-             "opt-in protocol.stall_time > 0; beams: the plan ended without passing)",
-    "turned_over": "octopus: |roll| or |pitch| beyond protocol.turn_over",
+    "fell": "the robot fell off or out of the world",
+    "stuck": "no progress for the system's stall time, or a controller gave up",
+    "turned_over": "the body tilted past the system's turned-over limit",
     "diverged": "the simulation blew up (non-finite state, a speed above physics.max_speed, or MuJoCo reset "
                 "the state): a numerical failure, not an outcome of the method",
     "error": "the trial raised, its worker died or it ran past its wall-time budget: a fault of the run, "
@@ -137,12 +136,15 @@ def config_table(sysobj: Any) -> Any:
     return t
 
 
-def statuses_table() -> Any:
+def statuses_table(systems: Any = ()) -> Any:
+    """Every status, its meaning, and what it means in each of ``systems`` (their ``status_notes``)."""
     from rich.table import Table
 
     t = Table(title="trial statuses", title_justify="left")
     t.add_column("status")
     t.add_column("meaning")
+    t.add_column("per system")
     for s in STATUSES:
-        t.add_row(s, STATUS_MEANINGS[s])
+        notes = "; ".join(f"{sy.id}: {sy.status_notes[s]}" for sy in systems if s in sy.status_notes)
+        t.add_row(s, STATUS_MEANINGS[s], notes)
     return t

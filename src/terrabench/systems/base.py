@@ -152,6 +152,7 @@ class System:
         headline_metrics: metric names shown per trial by the CLI.
         env_ids: Gymnasium ids registered for this system (``terrabench list`` shows them).
         perf_instances: instances ``terrabench perf`` times by default.
+        status_notes: status -> what it means for this system (``terrabench list --statuses``).
         instance_format: one line on how instance ids are spelt (``terrabench list SYSTEM``);
             '' = shown as the ids' shapes with digits as N.
         smoke: keyword arguments of :meth:`plan` for a request that runs in seconds (the
@@ -169,6 +170,7 @@ class System:
     env_ids: ClassVar[tuple[str, ...]] = ()
     perf_instances: ClassVar[tuple[str, ...]] = ()
     instance_format: ClassVar[str] = ""
+    status_notes: ClassVar[Mapping[str, str]] = {}
     smoke: ClassVar[Mapping[str, Any]] = {}
 
     # ------------------------------------------------------------------ scenarios (override)

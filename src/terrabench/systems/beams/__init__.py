@@ -24,6 +24,8 @@ class BeamsSystem(System):
     """The beams system on the hallway contract (its trials run the paper's own integrator)."""
 
     id = _sc.SYSTEM_ID
+    status_notes = {"success": "passed the beams", "fell": "the body rolled or pitched past 90 deg",
+                    "stuck": "the plan ended without passing"}
     summary = "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through"
     config_cls = TrialConfig
     groups = {g: g for g in _sc.GROUPS}

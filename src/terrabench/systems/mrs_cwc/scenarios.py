@@ -23,6 +23,9 @@ class MRSCWCSystem(System):
     """The MRS-CWC chain on the 100 released terrains."""
 
     id = "mrs-cwc"
+    status_notes = {"success": "leader within protocol.success_threshold of the target",
+                    "fell": "leader below protocol.fall_z",
+                    "stuck": "only with the opt-in protocol.stall_time > 0"}
     summary = "MRS-CWC robot chain on 100 rough terrains (Xiao et al.)"
     config_cls = MRSConfig
     instance_format = "A-01 ... A-50 (group A), B-01 ... B-50 (group B): the released terrain rows"

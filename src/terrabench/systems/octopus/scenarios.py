@@ -30,6 +30,9 @@ class OctopusSystem(System):
     """The OCTOPUS arm-and-flipper crawler on steps, terraces and a block."""
 
     id = "octopus"
+    status_notes = {"success": "on top, past the edge and stable for protocol.success_hold",
+                    "stuck": "no progress for protocol.stuck_time",
+                    "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
     summary = "OCTOPUS four-arm four-flipper crawler climbing a 400 mm step without vision (Chen, Kamezaki et al.)"
     config_cls = OctopusConfig
     groups = {"steps": "the paper's tasks: step-400, terrace2-front, terrace2-side, block-500",

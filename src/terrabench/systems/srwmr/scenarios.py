@@ -36,6 +36,9 @@ class SRWMRSystem(System):
     """The HIT-MRII reconfigurable rover on loose soil."""
 
     id = "srwmr"
+    status_notes = {"success": "the chassis passed the task's goal line, or the plan ended at it",
+                    "stuck": "a health halt (body slip >= supervisor.health_slip) or a plan ended short of the goal",
+                    "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
     summary = "HIT-MRII reconfigurable rover: constraint-saturated IK, WRM/WCM/RCLM/RCM on loose soil (Qi et al.)"
     config_cls = SRWMRConfig
     groups = {

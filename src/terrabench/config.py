@@ -353,8 +353,7 @@ def _set(obj: Any, parts: list[str], value: Any, full: str) -> Any:
         try:
             return dataclasses.replace(obj, **{head: value})
         except ConfigError as exc:  # another field of this section, checked in __post_init__
-            raise ConfigError(full.rsplit(".", 1)[0] + "." + exc.key if "." in full else exc.key,
-                              exc.value, exc.valid, problem=exc.problem) from None
+            raise exc.under(full.rsplit(".", 1)[0] if "." in full else "") from None
         except (TypeError, ArithmeticError, ValueError) as exc:
             raise ValueError(f"config key {full!r} = {_show(value)} is invalid: {exc}") from None
     if not dataclasses.is_dataclass(current):

@@ -55,18 +55,13 @@ def cmu_arrays(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
 
 
 def rms(a: dict[str, np.ndarray], sel: np.ndarray) -> dict[str, float]:
-    """RMS errors on the selected points: DP driving and all slips, lateral (fractions of the
-    load), sinkage (m), and the point counts."""
-    load = a["load_N"]
-    drive = sel & (a["slip"] >= 0)
+    """:func:`terrabench.systems.soil.cmu.rms_table` on stored rows' arrays (:func:`cmu_arrays`):
+    DP driving and all slips, lateral (fractions of the load), sinkage (m), point counts."""
+    from terrabench.systems.soil.cmu import rms_table
 
-    def frac(model, meas, m):
-        return float(np.sqrt(np.mean(((a[model][m] - a[meas][m]) / load[m]) ** 2))) if m.any() else float("nan")
-
-    sink = float(np.sqrt(np.mean((a["sinkage_m"][sel] - a["sinkage_meas_m"][sel]) ** 2))) if sel.any() else float("nan")
-    return {"DP_drive": frac("DP_N", "DP_meas_N", drive), "DP_all": frac("DP_N", "DP_meas_N", sel),
-            "lateral": frac("lateral_N", "lateral_meas_N", sel), "sinkage": sink,
-            "n_drive": int(drive.sum()), "n_all": int(sel.sum())}
+    meas = {"load_N": a["load_N"], "slip": a["slip"], "DP_N": a["DP_meas_N"], "lateral_N": a["lateral_meas_N"],
+            "sinkage_m": a["sinkage_meas_m"]}
+    return rms_table(meas, a, sel)
 
 
 def rms_lines(label: str, a: dict[str, np.ndarray]) -> list[dict[str, Any]]:

@@ -214,15 +214,14 @@ def validate(cfg: Any, prefix: str = "") -> Any:
 
     Raises :class:`ConfigError` (a ValueError) naming the dotted key, the value and what is valid.
     """
+    try:
+        check_fields(cfg)
+    except ConfigError as e:
+        raise e.under(prefix) from None
     for f in dataclasses.fields(cfg):
         v = getattr(cfg, f.name)
-        key = f"{prefix}{f.name}"
         if dataclasses.is_dataclass(v) and not isinstance(v, type):
-            validate(v, key + ".")
-            continue
-        spec = spec_of(f)
-        if spec is not None:
-            check_value(key, v, spec, _default(f))
+            validate(v, f"{prefix}.{f.name}" if prefix else f.name)
     return cfg
 
 

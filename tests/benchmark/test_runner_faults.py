@@ -134,9 +134,18 @@ def test_sim_timeout_and_default_budget():
     spec = plan("cwc-tdt")[0]
     assert sim_timeout(spec) == 1.0
     assert default_wall_budget(spec) == pytest.approx(
-        runner.BUDGET_OVERHEAD_S + runner.BUDGET_SAFETY / runner.MEASURED_RTF)
+        runner.BUDGET_OVERHEAD_S + runner.BUDGET_SAFETY / SYSTEM.realtime_factor)
     released = SYSTEM.plan(methods=["cwc-tdt"], instances=["A-01"])[0]
     assert sim_timeout(released) == 1000.0 and 300 < default_wall_budget(released) < 600
+    # a slower system gets a longer budget for the same simulated timeout
+    from terrabench.catalog import system
+
+    slow = system("srwmr")
+    assert slow.realtime_factor < SYSTEM.realtime_factor
+    rover = slow.plan(methods=["wrm"], instances=["t1-loose"], overrides={"protocol.timeout": 700.0})[0]
+    t = sim_timeout(rover)
+    assert default_wall_budget(rover) == pytest.approx(
+        runner.BUDGET_OVERHEAD_S + runner.BUDGET_SAFETY * t / slow.realtime_factor)
     unknown = TrialSpec("nosuch", "x", "m", "i", 0, {})
     assert sim_timeout(unknown) is None and default_wall_budget(unknown) == runner.FALLBACK_WALL_BUDGET_S
     with pytest.raises(ValueError, match="wall_budget must be positive"):

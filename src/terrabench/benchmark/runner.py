@@ -44,10 +44,6 @@ __all__ = ["BACKENDS", "RunSummary", "default_wall_budget", "default_workers", "
 
 BACKENDS = ("local", "ray")
 
-#: Simulated seconds per wall-clock second the slowest measured configuration reaches: the
-#: MRS-CWC loop runs ~45x real time per core at a 5 ms step and ~20x at the released 2.5 ms
-#: step with 2 processes sharing 2 cores (docs/performance.md). The default budget uses 20.
-MEASURED_RTF = 20.0
 #: The default budget allows this many times the measured-speed wall time ...
 BUDGET_SAFETY = 5.0
 #: ... plus this much for building the model, planning and logging (seconds).
@@ -152,14 +148,17 @@ def sim_timeout(spec: TrialSpec) -> float | None:
 def default_wall_budget(spec: TrialSpec) -> float:
     """Wall-clock seconds a trial may take before it counts as hung.
 
-    ``BUDGET_OVERHEAD_S + BUDGET_SAFETY * timeout / MEASURED_RTF`` (120 s + 5x the wall time at
-    20x real time: 370 s for the released 1000 s timeout, 145 s for 50 s), or
-    ``FALLBACK_WALL_BUDGET_S`` (1 h) when the spec's simulated timeout is unknown.
+    ``BUDGET_OVERHEAD_S + BUDGET_SAFETY * timeout / rtf``, with ``rtf`` the system's measured
+    :attr:`~terrabench.systems.base.System.realtime_factor` (MRS-CWC, 20x real time at its
+    released 2.5 ms step: 370 s for the released 1000 s timeout; srwmr, 10x: 470 s for a 700 s
+    task), or ``FALLBACK_WALL_BUDGET_S`` (1 h) when the spec's simulated timeout is unknown.
     """
+    from terrabench.catalog import system
+
     t = sim_timeout(spec)
     if t is None:
         return FALLBACK_WALL_BUDGET_S
-    return BUDGET_OVERHEAD_S + BUDGET_SAFETY * t / MEASURED_RTF
+    return BUDGET_OVERHEAD_S + BUDGET_SAFETY * t / system(spec.system).realtime_factor
 
 
 def _budget_fn(wall_budget: WallBudget) -> Callable[[TrialSpec], float]:

@@ -152,6 +152,9 @@ class System:
         headline_metrics: metric names shown per trial by the CLI.
         env_ids: Gymnasium ids registered for this system (``terrabench list`` shows them).
         perf_instances: instances ``terrabench perf`` times by default.
+        realtime_factor: simulated seconds per wall second of this system's slowest measured
+            configuration with 2 processes on 2 cores; the runner's hung-trial budget divides the
+            simulated timeout by it (:func:`terrabench.benchmark.runner.default_wall_budget`).
         status_notes: status -> what it means for this system (``terrabench list --statuses``).
         instance_format: one line on how instance ids are spelt (``terrabench list SYSTEM``);
             '' = shown as the ids' shapes with digits as N.
@@ -169,6 +172,7 @@ class System:
     headline_metrics: ClassVar[tuple[str, ...]] = ()
     env_ids: ClassVar[tuple[str, ...]] = ()
     perf_instances: ClassVar[tuple[str, ...]] = ()
+    realtime_factor: ClassVar[float] = 20.0
     instance_format: ClassVar[str] = ""
     status_notes: ClassVar[Mapping[str, str]] = {}
     smoke: ClassVar[Mapping[str, Any]] = {}

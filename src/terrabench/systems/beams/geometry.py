@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from terrabench.config import check_fields, param
+from terrabench.config import ConfigError, check_fields, param
 
 #: Gravitational acceleration, m/s^2.
 GRAVITY = 9.81
@@ -19,15 +19,6 @@ GRAVITY = 9.81
 #: Readings of the paper's gap d (see :attr:`BeamLayout.gap_reading`).
 GAP_READINGS = ("edge", "centre")
 
-
-
-def _check(name: str, value: float, *, positive: bool = False, nonneg: bool = False) -> None:
-    if not np.isfinite(value):
-        raise ValueError(f"{name} = {value!r} is not finite")
-    if positive and value <= 0:
-        raise ValueError(f"{name} = {value!r} is invalid; it must be > 0")
-    if nonneg and value < 0:
-        raise ValueError(f"{name} = {value!r} is invalid; it must be >= 0")
 
 
 @dataclass(frozen=True)
@@ -99,20 +90,20 @@ class BeamLayout:
 class Beam:
     """One beam's mechanical parameters (the unknowns of the estimation)."""
 
-    k: float
+    k: float = param(ge=0, unit="N m/rad", doc="Torsion-spring stiffness")
     """Torsion-spring stiffness, N m/rad."""
-    h_b: float = 0.0
+    h_b: float = param(0.0, unit="m", doc="Height of the deflection point (hinge) above the ground")
     """Height of the deflection point (hinge) above the ground, m."""
-    tau0: float = 0.0
+    tau0: float = param(0.0, ge=0, unit="N m", doc="Preload torque holding the beam upright (eq. 12)")
     """Preload torque holding the beam upright (experiment variant, eq. 12), N m."""
-    mass: float = 0.0
+    mass: float = param(0.0, ge=0, unit="kg", doc="Beam mass M_B (eq. 12; the simulated beams are massless)")
     """Beam mass M_B (experiment variant, eq. 12; the simulated beams are massless), kg."""
 
     def __post_init__(self) -> None:
-        _check("beam.k", self.k, nonneg=True)
-        _check("beam.tau0", self.tau0, nonneg=True)
-        _check("beam.mass", self.mass, nonneg=True)
-        _check("beam.h_b", self.h_b)
+        try:
+            check_fields(self)
+        except ConfigError as e:
+            raise e.under("beam") from None
 
 
 @dataclass(frozen=True)
@@ -125,28 +116,25 @@ class ModelConfig:
     """Beam positions and sizes."""
     beams: tuple[Beam, Beam] = (Beam(0.25), Beam(0.27))
     """True parameters of the left and right beam."""
-    dt: float = 2e-4
+    dt: float = param(2e-4, gt=0, unit="s", doc="Integration time step (paper Sec. II-B)")
     """Integration time step, s (paper Sec. II-B)."""
-    gravity: float = GRAVITY
+    gravity: float = param(GRAVITY, ge=0, unit="m/s^2", doc="Gravitational acceleration")
     """Gravitational acceleration, m/s^2."""
-    pitch_axis: str = "generalized"
+    pitch_axis: str = param("generalized", choices=("generalized", "principal"),
+                            doc="Axis the pitch equation projects torques on")
     """Axis the pitch equation projects torques on: ``"generalized"`` (world -y, the axis beta
     turns about, which keeps the dynamics the gradient of the eq.-8 energy) or ``"principal"``
     (body e2 as literally printed in eq. 2). They coincide at zero roll."""
-    min_lever: float = 1e-3
+    min_lever: float = param(1e-3, gt=0, unit="m", doc="Smallest moment arm of a contact force about a hinge")
     """Smallest moment arm, m, used when a contact force passes (nearly) through a hinge."""
-    damping: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    damping: tuple[float, float, float] = param((0.0, 0.0, 0.0), ge=0, length=3,
+                                                doc="Viscous damping on (x, alpha, beta)")
     """Viscous damping on (x, alpha, beta) in N s/m, N m s/rad, N m s/rad (paper: none)."""
 
     def __post_init__(self) -> None:
-        _check("dt", self.dt, positive=True)
-        _check("gravity", self.gravity, nonneg=True)
-        if self.pitch_axis not in ("generalized", "principal"):
-            raise ValueError(f"pitch_axis = {self.pitch_axis!r}; valid: 'generalized', 'principal'")
+        check_fields(self)
         if len(self.beams) != 2:
             raise ValueError(f"beams must hold exactly 2 Beam objects, got {len(self.beams)}")
-        for i, d in enumerate(self.damping):
-            _check(f"damping[{i}]", d, nonneg=True)
 
 
 def critical_stiffness(robot: RobotParams = RobotParams(), layout: BeamLayout = BeamLayout(),

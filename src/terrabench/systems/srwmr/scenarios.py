@@ -49,6 +49,7 @@ class SRWMRSystem(System):
     timeout_key = "protocol.timeout"
     headline_metrics = ("body_slip", "progress", "distance", "energy_kJ", "W_diff_max", "sim_time")
     perf_instances = ("t1-loose",)
+    realtime_factor = 10.0  # `terrabench perf srwmr`: 10-12x real time per core (docs/srwmr.md)
     env_ids = ("terrabench/SRWMR-v1",)
     smoke = {"methods": ["wrm"], "instances": ["t1-loose"], "overrides": {"protocol.timeout": 3.0}}
 

@@ -84,6 +84,13 @@ class CLMConfig:
         pitch_cap: while lifting, front booms hold above this pitch, rear booms below minus it (rad).
         flip_min: lowest flipper command while climbing (rad).
         max_lead: largest lead of a joint command over the measured angle (rad).
+        edge_angle, edge_time: a front flipper steeper than edge_angle in the level frame (encoder +
+            IMU pitch) that has stopped rising for edge_time (s) is, with an up-step sensed, an edge
+            ahead as the limit A0 is: at a low riser the edge presses near the pivot and the torque
+            rule stalls below the limit (the CLM riser stalls at 100-250 mm).
+        climb_hold: while the lifted body drives, the supporting tips hold their footholds (their
+            targets move back by the crawler travel, as in walking), so a front tip on a short tread
+            does not roll into the next riser and block the climb.
     """
 
     track_speed: float = param(0.1, gt=0, unit="m/s", doc="crawler surface speed in compound mode")
@@ -145,6 +152,10 @@ class CLMConfig:
     flip_lead: float = param(0.05, ge=0, unit="rad",
                              doc="flipper command kept within this of the measured angle (eq. 29)")
     flip_wait: float = param(0.5, ge=0, doc="front flippers wait while H < flip_wait x H_EST")
+    edge_angle: float = param(1.2, gt=0, le=math.pi, unit="rad",
+                              doc="a front flipper this steep (level frame), no longer rising, with an up-step: climb")
+    edge_time: float = param(1.0, ge=0, unit="s", doc="the steep front flipper has stopped rising this long")
+    climb_hold: bool = param(True, doc="while climbing, supporting tips hold their footholds (arm moving)")
 
 
 # ---------------------------------------------------------------------------- pure rules
@@ -331,6 +342,9 @@ class CLMController:
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
         self.out_of_reach = False
+        self.out_arm = ""  # the last arm whose foothold left its range (diagnostics)
+        self.flip_prev, self.flip_still = 0.0, 0.0  # the front flipper angle and how long it has held (s)
+        self.caster = np.zeros(4, bool)  # landed beyond its range: rolls with the body until its turn
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
         self.next_gait = 0
         self.pause_until = 0.0
@@ -506,14 +520,25 @@ class CLMController:
             if self.landing[i]:
                 self._settle(obs, k, i)
             f = self.foot[i]
-            if cfg.arm_moving:
+            sx, sy = CORNER[k]
+            beyond = (f[0] < cfg.reach_min[0 if sx > 0 else 1]
+                      or math.hypot(f[0] - sx * mx, f[1] - sy * my) > cfg.reach_max)
+            if self.landing[i]:
+                # a foothold already beyond the range where the arm landed (a pitched body's
+                # descent ends far out): no transfer now brings it back, so the crawlers do not
+                # wait for it; the arm rolls with the body (a caster) until its next turn
+                self.caster[i] = beyond
+            if cfg.arm_moving and not self.caster[i]:
                 f[0] -= dx
             f[2] = self.tip_r[i, 2] - cfg.press
             self.cmd.arm[i] = ak.ik(f, self.robot, k)
-            sx, sy = CORNER[k]
-            if (f[0] < cfg.reach_min[0 if sx > 0 else 1]
-                    or math.hypot(f[0] - sx * mx, f[1] - sy * my) > cfg.reach_max):
+            if beyond and not self.caster[i]:
                 out = True
+                self.out_arm = k
+                if k in self.queue[1:]:
+                    # the crawlers wait for this arm: its transfer comes first
+                    self.queue.remove(k)
+                    self.queue.insert(0, k)
         return out
 
     # ---------------------------------------------------------------- climbing
@@ -537,6 +562,10 @@ class CLMController:
         if self.state == CLIMB:
             if h >= self.h_est:
                 self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
+                if cfg.climb_hold:
+                    # arm moving while driving on the lifted body: each tip keeps its foothold
+                    # (it does not roll forward into the next riser)
+                    self.lift_tgt[:, 0] -= cfg.climb_track_speed * self.dt * math.cos(self.tp - obs.pitch)
             if h < self.h_est + cfg.lift_margin:
                 for i in range(len(ARMS)):
                     front = i < 2
@@ -617,7 +646,15 @@ class CLMController:
                 self.tp = terrain_angles(self.tip_c)[0]
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
             at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
-            if all_down and self.last_case == UP and at_limit:
+            # a low riser presses near the flipper pivot: the torque rule stalls below the limit,
+            # so a front flipper raised this steep in the level frame (encoder + IMU pitch) that
+            # has stopped rising for edge_time also means an edge ahead
+            qf = max(obs.q_flip[0], obs.q_flip[1])
+            self.flip_still = self.flip_still + self.dt if abs(qf - self.flip_prev) < 0.02 else 0.0
+            if self.flip_still == 0.0:
+                self.flip_prev = qf
+            steep = qf + obs.pitch > cfg.edge_angle and self.flip_still > cfg.edge_time
+            if all_down and self.last_case == UP and (at_limit or steep):
                 # per terrace: the nearer (lower) front tip's height over the rear tips
                 self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
                 self.s, self.s_release = 0.0, cfg.climb_distance

@@ -119,9 +119,58 @@ def _hfield_at(x, y, h, gp):
     return z + gp[2], -dzdx / nn, -dzdy / nn, 1.0 / nn
 
 
+@numba.njit(cache=True, inline="always")
+def _footing(i, sink, rw, vf, vl, g, r, foot, caps, tp, fp):
+    """Advance wheel i's footing state over one step and return its force along f and along l,
+    weighted by ``1 - g`` (docs/soil.md, "Static footing").
+
+    State ``m = foot[i]``: the mobilised fraction of the footing's shear strength along f and l
+    (|m| <= 1). Dahl's law in the patch displacement, whose monotonic loading curve is
+    Janosi-Hanamoto's ``1 - exp(-j/K)``, plus renewal of the soil under the patch as the rim
+    rolls one contact length: ``dm/dt = u - (|u| + |r omega| / L_c) m``, ``u = (v_sx/K, v_sy/K_y)``,
+    integrated exactly over the step for constant velocities."""
+    dt, K, Ky, cex, ct = fp[1], fp[2], fp[3], fp[4], fp[5]
+    if sink <= 0.0:
+        foot[i, 0] = 0.0
+        foot[i, 1] = 0.0
+        return 0.0, 0.0, 0.0
+    vsx = vf - rw  # the contact patch against the soil (the rim bottom's velocity)
+    ux, uy = vsx / K, vl / Ky
+    un = math.sqrt(ux * ux + uy * uy)
+    cz = min(max(1.0 - sink / r, 0.0), 1.0)
+    lc = max(r * math.acos(cz) * (1.0 + cex), 1e-6)  # contact length, entry to exit
+    a = un + abs(rw) / lc
+    mx, my = foot[i, 0], foot[i, 1]
+    if a * dt < 1e-12:
+        mx += ux * dt
+        my += uy * dt
+    else:
+        e = math.exp(-a * dt)
+        mx = ux / a + (mx - ux / a) * e
+        my = uy / a + (my - uy / a) * e
+    foot[i, 0] = mx
+    foot[i, 1] = my
+    # strength of the footing at this sinkage: the model's own sliding forces (the locked wheel's
+    # drawbar resistance along f, the sideways-dragged wheel's lateral force), linear in z
+    zc = min(sink, tp[0]) * tp[1]
+    k = min(int(zc), caps.shape[0] - 2)
+    t = zc - k
+    capx = (1.0 - t) * caps[k, 0] + t * caps[k + 1, 0]
+    capy = (1.0 - t) * caps[k, 1] + t * caps[k + 1, 1]
+    phs = (1.0 - t) * caps[k, 2] + t * caps[k + 1, 2]
+    # damping of the elastic footing, clipped so that the reaction stays within the strength
+    # (gone once the soil yields, |m| -> 1: a sliding wheel meets the strength itself)
+    rem = max(1.0 - math.sqrt(mx * mx + my * my), 0.0)
+    dx = min(max(ct * vsx, -rem * capx), rem * capx)
+    dy = min(max(ct * vl, -rem * capy), rem * capy)
+    ffx = -(1.0 - g) * (mx * capx + dx)
+    ffy = -(1.0 - g) * (my * capy + dy)
+    return ffx, ffy, phs
+
+
 @numba.njit(cache=True)
 def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, gp, zg_in, n_in,
-                 tab, dwdz, tp, r, damping, v_eps, truth):
+                 tab, dwdz, tp, r, damping, v_eps, truth, foot, caps, fp):
     for i in range(bodies.shape[0]):
         b = bodies[i]
         px, py, pz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
@@ -154,16 +203,34 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
         den = max(big, v_eps)
         s = min(max(d * (rw - vf) / den, -1.0), 1.0)
         C = abs(vl) / den
-        W, DP, T, Fy = lookup_one(sink, s, C, tab, dwdz, tp)
         fade = min(big / v_eps, 1.0)
+        st = s
+        if fp[0] > 0.0:
+            # below v_eps the slip of a creeping wheel is not a steady state: the look-up's slip (the
+            # stress angles and exponent behind the load it carries) fades with the speed
+            st = s * fade
+        W, DP, T, Fy = lookup_one(sink, st, C, tab, dwdz, tp)
         Fn = W - damping * vn
         if Fn < 0.0 or sink <= 0.0:
             Fn = 0.0
         dpf = d * DP * fade
         tf = d * T * fade
         fyv = -Fy if vl > 0 else (Fy if vl < 0 else 0.0)
-        Fax, Fay, Faz = Fn * nx + dpf * fx, Fn * ny + dpf * fy, Fn * nz + dpf * fz
-        Flx, Fly, Flz = fyv * lx, fyv * ly, fyv * lz
+        ffx = 0.0  # footing force along f: its shear share at the rim bottom, the rest at the axle
+        ffy = 0.0  # along l, at the rim bottom (as Fy)
+        phs = 0.0
+        if fp[0] > 0.0:
+            # the steady-state forces need soil flowing under a turning rim: weight min(|r omega| / v_eps, 1);
+            # the rest of the reaction is the footing of the patch (Dahl / Janosi-Hanamoto state)
+            g = min(abs(rw) / v_eps, 1.0)
+            ffx, ffy, phs = _footing(i, sink, rw, vf, vl, g, r, foot, caps, tp, fp)
+            dpf = d * DP * g
+            tf = d * T * g
+            fyv = fyv * g + ffy
+        fax = dpf + (1.0 - phs) * ffx  # along f at the axle
+        frx = phs * ffx  # along f at the rim bottom
+        Fax, Fay, Faz = Fn * nx + fax * fx, Fn * ny + fax * fy, Fn * nz + fax * fz
+        Flx, Fly, Flz = fyv * lx + frx * fx, fyv * ly + frx * fy, fyv * lz + frx * fz
         arx, ary, arz = px - xipos[b, 0], py - xipos[b, 1], pz - xipos[b, 2]
         brx, bry, brz = arx - r * nx, ary - r * ny, arz - r * nz
         xfrc[b, 0] = Fax + Flx
@@ -176,13 +243,15 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
         truth[1, i] = s
         truth[2, i] = C
         truth[3, i] = W
-        truth[4, i] = dpf
-        truth[5, i] = tf
+        truth[4, i] = dpf + ffx
+        truth[5, i] = tf + r * frx
         truth[6, i] = Fy
         truth[7, i] = Fn
+        truth[8, i] = foot[i, 0]
+        truth[9, i] = foot[i, 1]
 
 
-_TRUTH = ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn")
+_TRUTH = ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn", "foot_x", "foot_y")
 
 
 def _body_ids(model: mujoco.MjModel, wheels: Sequence[str | int]) -> np.ndarray:
@@ -230,6 +299,11 @@ class SoilWheels:
         every: compute forces every k-th call and hold them in between (1 = each call, default).
         v_eps: speed scale (m/s) regularising slip and fading rolling resistance at rest.
         disable_contact: switch off the wheels' rigid contacts.
+        footing: static footing (default on): below ``v_eps`` the tangential soil reaction is the
+            elastic-plastic footing of the contact patch (Janosi-Hanamoto in the accumulated patch
+            displacement, capped by the soil's sliding strength, renewed as the rim rolls) instead
+            of the faded steady-state forces alone; above ``v_eps`` the forces are the steady-state
+            ones (docs/soil.md, "Static footing"). False: the faded steady-state forces only.
         refresh: recompute kinematics and velocities (mj_kinematics, mj_comPos, mj_comVel)
             for the current state before each force evaluation. Without it the forces use
             ``xpos``/``cvel`` that ``mj_step`` left behind, which are one step old (mj_step
@@ -241,7 +315,7 @@ class SoilWheels:
                  wheel: WheelParams, soil: SoilParams | SoilTable, ground: Ground | None = None, *,
                  damping: float | None = None, damping_ratio: float = 1.0,
                  nominal_load: float | None = None, every: int = 1, v_eps: float = 0.02,
-                 disable_contact: bool = True, refresh: bool = False):
+                 disable_contact: bool = True, refresh: bool = False, footing: bool = True):
         if int(every) != every or every < 1:
             raise ValueError(f"every={every!r} is invalid; valid range: integer >= 1")
         if not v_eps > 0:
@@ -267,6 +341,24 @@ class SoilWheels:
         if not damping >= 0:
             raise ValueError(f"damping={damping!r} is invalid; valid range: damping >= 0 N s/m")
         self.damping = float(damping)
+        self.footing = bool(footing)
+        #: footing state per wheel: mobilised fraction of the footing strength along f and l
+        self.foot = np.zeros((self.n, 2))
+        t = self.table
+        j0 = int(np.argmin(np.abs(t.s)))
+        # footing strength against z: the locked wheel's drawbar resistance (shear, compaction, front
+        # ploughing) and the lateral force of a wheel dragged sideways (shear, sidewall bulldozing)
+        capx = np.maximum(-t.data[:, 0, 0, 1], 0.0)
+        # the shear stresses' share of it, which acts at the rim (its moment: the locked wheel's torque);
+        # the normal stresses' share (compaction, ploughing) acts through the axle
+        shear = np.divide(np.abs(t.data[:, 0, 0, 2]) / wheel.radius, capx, out=np.zeros_like(capx), where=capx > 0)
+        self._caps = np.ascontiguousarray(np.stack([capx, np.maximum(t.data[:, j0, -1, 3], 0.0),
+                                                    np.clip(shear, 0.0, 1.0)], axis=1))
+        z0 = t.static_sinkage(nominal_load)
+        k_t = float(np.interp(z0, t.z, self._caps[:, 0])) / self.soil.K  # initial footing stiffness (N/m)
+        self.footing_damping = 2.0 * damping_ratio * np.sqrt(max(k_t, 0.0) * nominal_load / g)
+        self._fp = np.array([1.0 if self.footing else 0.0, float(model.opt.timestep) * self.every, self.soil.K,
+                             self.soil.Ky, self.soil.c_exit, self.footing_damping])
         if disable_contact:
             disable_rigid_contact(model, self.bodies)
         self.refresh = bool(refresh)
@@ -310,7 +402,7 @@ class SoilWheels:
         t = self.table
         _soil_kernel(self.bodies, self.roots, xpos, xmat, cvel, scom, xipos, xfrc, self._gmode, self._gh, self._gp,
                      self._zg, self._nrm, t.data, t.dWdz_end, t.params, self.wheel.radius, self.damping, self.v_eps,
-                     self._truth)
+                     self._truth, self.foot, self._caps, self._fp)
 
     @property
     def wrench(self) -> np.ndarray:

@@ -27,6 +27,7 @@ class SoilConfig:
     v_eps: float = param(0.004, gt=0.0, le=0.05, unit="m/s", doc="slip regularising speed of the soil hook")
     every: int = param(1, ge=1, le=4, doc="soil forces every k-th physics step")
     refresh: bool = param(True, choices=(True, False), doc="soil forces from the current (not one-step-old) velocities")
+    footing: bool = param(True, choices=(True, False), doc="static footing of still wheels (docs/soil.md)")
 
     def __post_init__(self) -> None:
         check_fields(self)

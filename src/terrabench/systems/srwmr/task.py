@@ -151,6 +151,7 @@ class SRWMRTask(TaskBase):
             refresh=self.cfg.soil.refresh,
         )
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
+            footing=self.cfg.soil.footing,
         self.before_substep = self.soil_wheels.before_substep
         self.a_steer = np.array([model.actuator(Names.steer(c)).id for c in WHEELS])
         self.a_drive = np.array([model.actuator(Names.drive(c)).id for c in WHEELS])

@@ -149,9 +149,9 @@ class SRWMRTask(TaskBase):
             v_eps=self.cfg.soil.v_eps,
             every=self.cfg.soil.every,
             refresh=self.cfg.soil.refresh,
+            footing=self.cfg.soil.footing,
         )
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
-            footing=self.cfg.soil.footing,
         self.before_substep = self.soil_wheels.before_substep
         self.a_steer = np.array([model.actuator(Names.steer(c)).id for c in WHEELS])
         self.a_drive = np.array([model.actuator(Names.drive(c)).id for c in WHEELS])

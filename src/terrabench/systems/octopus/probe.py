@@ -18,11 +18,10 @@ import math
 import sys
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 
 from terrabench.sim.episode import Episode
-from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names
+from terrabench.systems.octopus.robot import ARMS, Names
 
 
 @dataclass
@@ -56,12 +55,8 @@ def probe_walk(seconds: float = 25.0, overrides: dict | None = None, *, instance
     ep = Episode(task)
     obs, stop = ep.begin()
     m, d = ep.model, ep.data
-    track_geoms = {m.geom(n).id for s in Names.SIDES for n in Names.track_geoms(s)}
-    track_geoms |= {m.geom(n).id for k in FLIPPERS for n in Names.flipper_geoms(k)}
-    ground = task.ground
     tips = [m.geom(Names.tip(k)).id for k in ARMS]
     weight = float(m.body_subtreemass[task.chassis]) * 9.81
-    f6 = np.zeros(6)
     support_start: dict[int, np.ndarray | None] = {i: None for i in range(4)}
     landed_t = np.full(4, np.inf)
     out = WalkProbe(drifts={k: [] for k in ARMS}, track_speed=cfg.clm.track_speed)
@@ -82,16 +77,7 @@ def probe_walk(seconds: float = 25.0, overrides: dict | None = None, *, instance
                     out.drifts[ARMS[i]].append(float(np.hypot(*(d.geom_xpos[tips[i], :2] - support_start[i]))))
                 support_start[i], landed_t[i] = None, np.inf
         if t >= skip:
-            tr = tot = 0.0
-            for j in range(d.ncon):
-                c = d.contact[j]
-                g1, g2 = c.geom1, c.geom2
-                if ground[g1] == ground[g2]:
-                    continue
-                mujoco.mj_contactForce(m, d, j, f6)
-                tot += f6[0]
-                if g1 in track_geoms or g2 in track_geoms:
-                    tr += f6[0]
+            tot, tr = task.normal_load()  # the task's track-share computation (tracks + flippers)
             if tot > 0:
                 shares.append(tr / tot)
                 unloaded.append(tr < 0.05 * weight)

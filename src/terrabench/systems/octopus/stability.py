@@ -7,42 +7,57 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 
-def convex_hull(points: np.ndarray) -> np.ndarray:
-    """Counter-clockwise hull (m, 2) of (n, 2) points (Andrew's monotone chain); collinear dropped.
-
-    Plain-float loop over the (few) sorted points: the contact sets here have 4-40 points, where
-    numpy's per-call overhead would dominate.
-    """
-    pts = np.asarray(points, float).reshape(-1, 2)
-    if len(pts) == 0:
-        return pts
-    order = np.lexsort((pts[:, 1], pts[:, 0]))
-    ps = [tuple(p) for p in pts[order].tolist()]
-    # drop exact duplicates (sorted, so they are adjacent)
-    uniq = [ps[0]]
-    for p in ps[1:]:
-        if p != uniq[-1]:
-            uniq.append(p)
-    if len(uniq) < 3:
-        return np.array(uniq)
-
-    def half(seq):
-        out: list = []
-        for p in seq:
-            while len(out) >= 2:
-                (ox, oy), (ax, ay) = out[-2], out[-1]
-                if (ax - ox) * (p[1] - oy) - (ay - oy) * (p[0] - ox) <= 1e-12:
-                    out.pop()
+@numba.njit(cache=True)
+def _hull(xs, ys, out):  # pragma: no cover
+    """Andrew's monotone chain over the n points (xs, ys), compiled: writes the counter-clockwise
+    hull into ``out`` (2n, 2) and returns its length (collinear points dropped; fewer than three
+    distinct points: those points, sorted)."""
+    n = xs.shape[0]
+    order = np.arange(n)
+    for a in range(1, n):  # stable insertion sort by (x, y): numpy's lexsort order
+        j, b = a, order[a]
+        while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
+            order[j] = order[j - 1]
+            j -= 1
+        order[j] = b
+    ux, uy = np.empty(n), np.empty(n)
+    m = 0
+    for a in range(n):  # exact duplicates dropped (sorted, so adjacent)
+        x, y = xs[order[a]], ys[order[a]]
+        if m == 0 or x != ux[m - 1] or y != uy[m - 1]:
+            ux[m], uy[m] = x, y
+            m += 1
+    if m < 3:
+        for a in range(m):
+            out[a, 0], out[a, 1] = ux[a], uy[a]
+        return m
+    h = 0
+    for rev in (False, True):  # lower half, then upper half
+        start = h
+        for a in range(m):
+            i = m - 1 - a if rev else a
+            px, py = ux[i], uy[i]
+            while h - start >= 2:
+                ox, oy, ax, ay = out[h - 2, 0], out[h - 2, 1], out[h - 1, 0], out[h - 1, 1]
+                if (ax - ox) * (py - oy) - (ay - oy) * (px - ox) <= 1e-12:
+                    h -= 1
                 else:
                     break
-            out.append(p)
-        return out
+            out[h, 0], out[h, 1] = px, py
+            h += 1
+        h -= 1  # each half's last point starts the other half
+    return h
 
-    lower, upper = half(uniq), half(uniq[::-1])
-    return np.array(lower[:-1] + upper[:-1])
+
+def convex_hull(points: np.ndarray) -> np.ndarray:
+    """Counter-clockwise hull (m, 2) of (n, 2) points (Andrew's monotone chain); collinear dropped."""
+    pts = np.asarray(points, float).reshape(-1, 2)
+    out = np.empty((2 * len(pts) + 1, 2))
+    return out[:_hull(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), out)]
 
 
 def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass
 
 import mujoco
+import numba
 import numpy as np
 
 from terrabench.sim.checks import Stalled, turned_over
@@ -39,6 +40,83 @@ QS_SPEED, QS_RATE, QS_LOAD = 0.15, 0.3, 0.2
 ROUGH_LEVELS = {"rough-1": 0.01, "rough-2": 0.02, "rough-3": 0.04}
 #: rough ground: start this far behind the origin, succeed this far past it (m): 1.5 m of travel
 ROUGH_GOAL = 0.75
+
+
+@numba.njit(cache=True)
+def _contact_pass(ncon, geom, efc_address, dim, friction, frame, efc_force, ground, tip_of, side_of,
+                  sel, rg, f, side, fr):  # pragma: no cover
+    """One pass over the ``ncon`` contacts (compiled: the per-tick contact work, no Python per contact).
+
+    Writes the robot-ground contacts' indices into ``data.contact`` (``sel``), their robot geoms
+    (``rg``), the crawler side of each (``side``, from ``side_of``; -1 not a crawler surface),
+    their contact frames (``fr``, rows of 9) and their contact-frame forces (normal, two
+    tangential) (``f``, N): pyramidal cones
+    of dimension 3 (this model's), the normal force the sum of the four pyramid-edge forces
+    ((e0 + e1) + e2) + e3, a tangential one mu x (f+ - f-), as ``mj_contactForce`` gives them.
+    Returns (count, bits of the arm tips touching anything (``tip_of``: geom -> tip index or -1),
+    whether every selected contact has dimension 3).
+    """
+    k, bits, dim3 = 0, 0, True
+    for j in range(ncon):
+        g1, g2 = geom[j, 0], geom[j, 1]
+        if tip_of[g1] >= 0:
+            bits |= 1 << tip_of[g1]
+        if tip_of[g2] >= 0:
+            bits |= 1 << tip_of[g2]
+        if ground[g1] == ground[g2]:
+            continue
+        sel[k] = j
+        r = g2 if ground[g1] else g1
+        rg[k] = r
+        side[k] = side_of[r]
+        for i in range(9):
+            fr[k, i] = frame[j, i]
+        if dim[j] != 3:
+            dim3 = False
+        a = efc_address[j]
+        e0 = e1 = e2 = e3 = 0.0
+        if a >= 0:
+            e0, e1, e2, e3 = efc_force[a], efc_force[a + 1], efc_force[a + 2], efc_force[a + 3]
+        f[k, 0] = ((e0 + e1) + e2) + e3
+        f[k, 1] = (e0 - e1) * friction[j, 0]
+        f[k, 2] = (e2 - e3) * friction[j, 1]
+        k += 1
+    return k, bits, dim3
+
+
+@numba.njit(cache=True)
+def _side_traction(k, f, d1, d2, side, out):  # pragma: no cover
+    """Each crawler side's traction (N): |f1 (t1 . x) + f2 (t2 . x)| summed over the side's
+    contacts in contact order (``side`` -1: not a crawler surface)."""
+    out[0] = 0.0
+    out[1] = 0.0
+    for a in range(k):
+        s = side[a]
+        if s >= 0:
+            out[s] += abs(f[a, 1] * d1[a] + f[a, 2] * d2[a])
+
+
+@numba.njit(cache=True)
+def _apply_command(track, force, pmax, v, sv, lin_ids, lin_side, lin_sign, rot_ids, rot_side, rot_gain,
+                   flip, arm, ctrl, dq):  # pragma: no cover
+    """The command's limits and model changes in one compiled pass (see :meth:`OctopusTask.apply`):
+    the crawler power limit, the moving surfaces' velocities, the servo references clipped to
+    ``ctrl`` +- ``dq`` (numpy's clip: a NaN command stays NaN)."""
+    for i in range(2):
+        vi, fi = track[i], force[i]
+        if fi > 1e-6 and abs(vi) * fi > pmax:
+            vi = math.copysign(pmax / fi, vi)
+        v[i] = vi
+    for a in range(lin_ids.shape[0]):
+        sv[lin_ids[a], 0] = -(v[lin_side[a]] * lin_sign[a])
+    for a in range(rot_ids.shape[0]):
+        sv[rot_ids[a], 5] = v[rot_side[a]] * rot_gain[a]
+    n = flip.shape[0]
+    for i in range(n + arm.shape[0]):
+        x = flip[i] if i < n else arm[i - n]
+        lo, hi = ctrl[i] - dq[i], ctrl[i] + dq[i]
+        y = x if (x != x or x > lo) else lo
+        ctrl[i] = y if (y != y or y < hi) else hi
 
 
 @dataclass(frozen=True)
@@ -204,6 +282,17 @@ class OctopusTask(TaskBase):
         self._f6 = np.zeros(6)
         self._track_force = np.zeros(2)
         self._v = np.zeros(2)
+        # the contact pass (_contacts): once per instant, into these buffers (grown with ncon)
+        self._tip_of = np.full(model.ngeom, -1)
+        self._tip_of[self.tip_geoms] = np.arange(len(self.tip_geoms))
+        self._pyramid = model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
+        self._con_t, self._con, self._k = -1.0, (np.empty(0, int), np.empty(0, int), np.empty((0, 3)), 0), 0
+        self._buf = self._buffers(64)
+        self._ax = data.xmat[self.chassis].reshape(3, 3)[:, 0]  # the chassis x axis (a view)
+        self._lin_side = np.ascontiguousarray(self._lin_sel[0])
+        self._lin_sign = np.ascontiguousarray(self._lin_sel[1], dtype=float)
+        self._rot_side = np.ascontiguousarray(self._rot_sel[0])
+        self._rot_gain = np.ascontiguousarray(self._rot_sel[1], dtype=float)
         self._sample = (float("nan"),) * 5
         self.apply_tracks(np.zeros(2))
         return self.obs
@@ -257,26 +346,32 @@ class OctopusTask(TaskBase):
         sv[self._rot_ids, 5] = v[side] * gain
 
     def apply(self, cmd: Command) -> None:
-        # crawler power limit: the speed of a side is cut so that its traction force (now, every
-        # control tick) times the speed stays within robot.track_power
-        v, f, pmax = self._v, self._traction(), self.cfg.robot.track_power
+        """The command's limits: the crawler power limit (a side's speed is cut so that its
+        traction force now, every control tick, times the speed stays within
+        ``robot.track_power``), the crawler surface speeds, and the joint speed limits (a servo
+        reference moves at most joint_speed x period a tick)."""
+        f = self._traction()
+        track, flip = np.asarray(cmd.track, dtype=float), np.asarray(cmd.flip, dtype=float)
+        arm = np.asarray(cmd.arm, dtype=float).reshape(-1)
+        ctrl = self._ctrl_view
+        if ctrl is not None:  # actuators 0..15 in order: one compiled pass, clipped in place
+            _apply_command(track, f, float(self.cfg.robot.track_power), self._v, self.model.geom_surfacevel,
+                           self._lin_ids, self._lin_side, self._lin_sign, self._rot_ids, self._rot_side,
+                           self._rot_gain, flip, arm, ctrl, self._dq)
+            return
+        v, pmax = self._v, self.cfg.robot.track_power
         for i in (0, 1):
-            vi, fi = float(cmd.track[i]), float(f[i])
+            vi, fi = float(track[i]), float(f[i])
             if fi > 1e-6 and abs(vi) * fi > pmax:
                 vi = math.copysign(pmax / fi, vi)
             v[i] = vi
         self.apply_tracks(self._v)
         c = self._ctrl
-        c[:4] = cmd.flip
-        c[4:] = cmd.arm.ravel()
-        # joint speed limits: the servo reference moves at most joint_speed x period a tick
-        ctrl = self._ctrl_view
-        if ctrl is None:
-            prev = self.data.ctrl[self.act]
-            np.clip(c, prev - self._dq, prev + self._dq, out=c)
-            self.data.ctrl[self.act] = c
-        else:  # actuators 0..15 in order: clip in place
-            np.clip(c, ctrl - self._dq, ctrl + self._dq, out=ctrl)
+        c[:4] = flip
+        c[4:] = arm
+        prev = self.data.ctrl[self.act]
+        np.clip(c, prev - self._dq, prev + self._dq, out=c)
+        self.data.ctrl[self.act] = c
 
     def sample(self) -> tuple[float, float, float, float, float]:
         """Ground-truth figures of the current contacts (evaluation only, on the stored rows):
@@ -293,12 +388,12 @@ class OctopusTask(TaskBase):
         d = self.data
         n, t = d.ncon, float(d.time)
         nan = float("nan")
-        sel, rg, f = self._ground_contacts()
+        sel, rg, f, _ = self._contacts()
         power = self._track_power()
         if not len(sel):
             return nan, nan, 0.0, nan, power
         fn = f[:, 0]
-        total = float(fn.sum())
+        total, on_crawlers = self.normal_load()
         self._loaded_t[rg[fn > SUPPORT_LOAD]] = t
         v = d.qvel[:6]
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
@@ -312,37 +407,64 @@ class OctopusTask(TaskBase):
             m_load, m_all = (stability_margin(pts[keep], cog) if keep.any() else nan), nan
         else:
             m_load, m_all = nan, stability_margin(pts, cog)
-        on = self._side_of[rg] >= 0
-        share = float(fn[on].sum()) / total if total > 0 else nan
+        share = on_crawlers / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
 
-    def _ground_contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Robot-ground contacts now: (indices into ``data.contact``, the robot geom of each,
-        their (k, 3) contact-frame forces)."""
-        d, gr = self.data, self.ground
-        geom = d.contact.geom[:d.ncon]
-        sel = np.nonzero(gr[geom[:, 0]] ^ gr[geom[:, 1]])[0]
+    def normal_load(self) -> tuple[float, float]:
+        """The robot's normal ground load now and the crawlers' part of it (tracks and flippers)
+        (N): the one track-share computation (the stored ``track_share`` column, the walking probe)."""
+        sel, rg, f, _ = self._contacts()
         if not len(sel):
-            return sel, sel, np.empty((0, 3))
-        g1, g2 = geom[sel, 0], geom[sel, 1]
-        return sel, np.where(gr[g1], g2, g1), self._contact_forces(sel)
+            return 0.0, 0.0
+        fn = f[:, 0]
+        return float(fn.sum()), float(fn[self._side_of[rg] >= 0].sum())
+
+    def _buffers(self, n: int) -> tuple[np.ndarray, ...]:
+        """Room for ``n`` contacts: indices, robot geoms, forces, sides, frames, and the frames'
+        two tangential rows as (n, 3) views (what numpy's matmul then takes)."""
+        fr = np.empty((n, 9))
+        f3 = fr.reshape(-1, 3, 3)
+        return (np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3)), np.empty(n, np.int64), fr,
+                f3[:, 1], f3[:, 2])
+
+    def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+        """The contacts now, computed once per instant (apply, the stored row and the last row
+        share it): (indices of the robot-ground contacts into ``data.contact``, the robot geom of
+        each, their (k, 3) contact-frame forces (N), bits of the arm tips touching anything)."""
+        d = self.data
+        if d.time == self._con_t:
+            return self._con
+        n = d.ncon
+        if n > len(self._buf[0]):
+            self._buf = self._buffers(2 * n)
+        sel, rg, f, side, fr = self._buf[:5]
+        c = d.contact
+        k, bits, dim3 = _contact_pass(n, c.geom, c.efc_address, c.dim, c.friction, c.frame, d.efc_force,
+                                      self.ground, self._tip_of, self._side_of, sel, rg, f, side, fr)
+        self._k = k
+        sel, rg, f = sel[:k], rg[:k], f[:k]
+        if k and not (self._pyramid and dim3):  # other cones or dimensions: MuJoCo's own decoding
+            f6 = self._f6
+            for a, j in enumerate(sel.tolist()):
+                mujoco.mj_contactForce(self.model, d, j, f6)
+                f[a] = f6[:3]
+        self._con_t, self._con = d.time, (sel, rg, f, bits)
+        return self._con
 
     def _traction(self) -> np.ndarray:
         """Each crawler side's traction force now (N): the tangential ground-contact force along
         the chassis x axis, summed over the side's track and flipper contacts. Kept for the power
         limit and the crawler power in ``energy``, so both follow the control period, not the
         logging period."""
-        sel, rg, f = self._ground_contacts()
-        if not len(sel):
-            self._track_force = np.zeros(2)
+        f = self._contacts()[2]
+        k = self._k
+        if not k:
+            self._track_force[:] = 0.0
             return self._track_force
-        d = self.data
-        fr = d.contact.frame[sel].reshape(-1, 3, 3)
-        ax = d.xmat[self.chassis].reshape(3, 3)[:, 0]
-        tx = np.abs(f[:, 1] * (fr[:, 1] @ ax) + f[:, 2] * (fr[:, 2] @ ax))
-        sd = self._side_of[rg]
-        on = sd >= 0
-        self._track_force = np.bincount(sd[on], weights=tx[on], minlength=2)
+        # the frames' tangential rows projected on the chassis x axis by numpy's matmul, as (k, 3)
+        # rows 9 apart (the BLAS kernel's rounding is part of the stored results)
+        b, ax = self._buf, self._ax
+        _side_traction(k, f, b[5][:k] @ ax, b[6][:k] @ ax, b[3], self._track_force)
         return self._track_force
 
     def _track_power(self) -> float:
@@ -350,36 +472,9 @@ class OctopusTask(TaskBase):
         fx, v = self._track_force, self._v
         return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
 
-    def _contact_forces(self, sel: np.ndarray) -> np.ndarray:
-        """(k, 3) contact-frame forces (normal, two tangential) of the contacts ``sel`` (N).
-
-        Pyramidal cones of dimension 3 (this model's): the normal force is the sum of the four
-        pyramid-edge forces, a tangential one mu x (f+ - f-), read from ``efc_force`` in one
-        pass (equal to ``mj_contactForce``); other contacts go through ``mj_contactForce``.
-        """
-        m, d = self.model, self.data
-        c = d.contact
-        adr, dim = c.efc_address[sel], c.dim[sel]
-        if m.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and (dim == 3).all():
-            e = np.where((adr >= 0)[:, None], d.efc_force[np.maximum(adr, 0)[:, None] + np.arange(4)], 0.0)
-            mu = c.friction[sel, :2]
-            return np.stack([e.sum(1), (e[:, 0] - e[:, 1]) * mu[:, 0], (e[:, 2] - e[:, 3]) * mu[:, 1]], axis=1)
-        f, f6 = np.empty((len(sel), 3)), self._f6
-        for a, j in enumerate(sel.tolist()):
-            mujoco.mj_contactForce(m, d, j, f6)
-            f[a] = f6[:3]
-        return f
-
     def tip_contacts(self) -> int:
-        d = self.data
-        n = d.ncon
-        bits = 0
-        if n:
-            geom = d.contact.geom[:n]
-            for i, tg in enumerate(self.tip_geoms):
-                if ((geom[:, 0] == tg) | (geom[:, 1] == tg)).any():
-                    bits |= 1 << i
-        return bits
+        """Bits (1 << arm index, arms LF, RF, LR, RR) of the arm tips touching anything now."""
+        return self._contacts()[3]
 
     def row(self, obs: Observation, cmd: Command | None) -> tuple[float, ...]:
         s, lat = self.progress()
@@ -388,13 +483,14 @@ class OctopusTask(TaskBase):
             self._sample, self._tips = self.sample(), float(self.tip_contacts())
         self._row_k += 1
         m_load, m_all, quasi, share, tpow = self._sample
-        te, qa = obs.tau_elbow, obs.q_arm
+        # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
+        te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
-                0.5 * (obs.q_flip[0] + obs.q_flip[1]), 0.5 * (obs.q_flip[2] + obs.q_flip[3]),
+                0.5 * (qf[0] + qf[1]), 0.5 * (qf[2] + qf[3]),
                 te[0], te[1], te[2], te[3],
-                m_all, quasi, share, tpow, qa[1, 0], qa[1, 1], qa[1, 2], qa[3, 0], qa[3, 1], qa[3, 2])
+                m_all, quasi, share, tpow, *qa[1], *qa[3])
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction

@@ -6,29 +6,36 @@ import math
 
 import numpy as np
 
-from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig, arm_tip_local
-
-
-def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
-    """Tip of arm ``k`` in the robot frame {R} (m) for joints (swing, boom, elbow) (rad)."""
-    return arm_tip_local(np.asarray(q, float), cfg, k)
-
+from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
 
 _SXL = [float(CORNER[k][0]) for k in ARMS]
 _SYL = [float(CORNER[k][1]) for k in ARMS]
 
 
-def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
-    """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four, on
-    Python floats (numpy's per-call cost exceeds this arithmetic)."""
+def _tip(sw: float, bm: float, el: float, sx: float, sy: float, cfg: RobotConfig) -> tuple[float, float, float]:
+    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0): tip centre of
+    the arm at corner (sx, sy) in {R} (m), on Python floats. With r = l1 cos(boom) + l2 cos(boom +
+    elbow): (sx mx + r sin(swing), sy (my + r cos(swing)), mz + 0.04 - l1 sin(boom) - l2 sin(boom +
+    elbow)), the boom axis 0.04 m above the mount."""
     mx, my, mz = cfg.arm_mount
-    l1, l2, z0 = cfg.l1, cfg.l2, mz + 0.04
-    out = []
-    for (sw, bm, el), sx, sy in zip(q_arm.tolist(), _SXL, _SYL):
-        reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
-        out.append((sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
-                    z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)))
-    return np.array(out)
+    l1, l2 = cfg.l1, cfg.l2
+    reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
+    return (sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
+            mz + 0.04 - l1 * math.sin(bm) - l2 * math.sin(bm + el))
+
+
+def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
+    """Tip of arm ``k`` in the robot frame {R} (m) for joints (swing, boom, elbow) (rad); the same
+    numbers, bit for bit, as that arm's row of :func:`fk_all`."""
+    sw, bm, el = (float(v) for v in q)
+    sx, sy = CORNER[k]
+    return np.array(_tip(sw, bm, el, float(sx), float(sy), cfg))
+
+
+def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
+    """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four in one
+    call, on Python floats (numpy's per-call cost exceeds this arithmetic)."""
+    return np.array([_tip(sw, bm, el, sx, sy, cfg) for (sw, bm, el), sx, sy in zip(q_arm.tolist(), _SXL, _SYL)])
 
 
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:

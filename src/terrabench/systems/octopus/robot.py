@@ -23,7 +23,6 @@ import math
 from dataclasses import dataclass
 
 import mujoco
-import numpy as np
 
 from terrabench.config import param
 from terrabench.terrain.mjcf import GROUND_BIT
@@ -291,17 +290,3 @@ def _servo(spec: mujoco.MjSpec, joint: str, kp: float, torque: float, rng: tuple
     a.forcerange = [-torque, torque]
     a.ctrllimited = True
     a.ctrlrange = list(rng)
-
-
-def arm_tip_local(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
-    """Forward kinematics: tip centre of arm ``k`` in the chassis frame (m) for joints ``q`` (3,).
-
-    The paper's eq. 13 in our convention (d3 = 0 here): with s the arm's side sign,
-    r = l1 cos(boom) + l2 cos(boom + elbow), tip = mount + (-s r sin(swing)... ) laid out below.
-    """
-    sw, bm, el = q
-    sx, sy = CORNER[k]
-    mx, my, mz = cfg.arm_mount
-    reach = cfg.l1 * math.cos(bm) + cfg.l2 * math.cos(bm + el)
-    z = -cfg.l1 * math.sin(bm) - cfg.l2 * math.sin(bm + el)
-    return np.array([sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)), mz + 0.04 + z])

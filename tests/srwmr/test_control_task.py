@@ -70,8 +70,10 @@ def test_health_monitor_halts_wrm_at_slip_096():
 
 
 def test_unknown_mode_in_a_plan():
-    with pytest.raises(ValueError, match="valid: WRM, WCM, RCLM, RCM"):
-        _ctl([Step("SWLM")])
+    with pytest.raises(ValueError, match="valid: WRM, WCM, RCLM, RCM, SWLM, DWLM"):
+        _ctl([Step("LEGS")])
+    with pytest.raises(ValueError, match="allowed lifts"):
+        _ctl([Step("SWLM")])  # a legged step needs a lift set (MC#1)
 
 
 @pytest.mark.parametrize(

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from terrabench.config import check_fields, param
 from terrabench.sim.episode import Timing
 from terrabench.sim.physics import PhysicsConfig
-from terrabench.systems.srwmr.constraints import Scales
+from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
 from terrabench.systems.srwmr.control import SupervisorConfig
 from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.robot import RobotConfig
@@ -41,6 +41,9 @@ class SceneConfig:
     yaw_jitter_deg: float = param(1.0, ge=0.0, le=10.0, unit="deg", doc="seeds > 0 turn the start by up to this")
     approach: float = param(0.6, ge=0.0, le=5.0, unit="m", doc="front wheels to the slope foot at the start")
     clearance: float = param(0.25, ge=0.15, le=0.55, unit="m", doc="start ground clearance [S 250 mm, 150-550 tested]")
+    lift: str = param("", choices=("",) + tuple("+".join(a) for a in ALLOWED_LIFTS),
+                      doc="T12/T13 wheels lifted, MC#1 sets (SWLM one wheel, DWLM c1+c2 / c3+c4 / c5+c6); "
+                          "'' = the instance's")
 
     def __post_init__(self) -> None:
         check_fields(self)

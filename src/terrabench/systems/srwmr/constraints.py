@@ -96,10 +96,16 @@ THRESHOLDS: dict[str, tuple[float, ...]] = {
     "WCM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
     "RCLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
     "RCM": (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
-    "SWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
-    "DWLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
+    # SWLM / DWLM: MC10 W_diff <= 1100 N / 1300 N [S Tasks 6, 7], MC11 W_fmr <= 700 N [S]; MC5 not
+    # monitored (lifting one side's wheel changes that side's wheelbase by design); MC4 is measured
+    # from the IMU roll in these modes (control.py)
+    "SWLM": (1.0, 0.45, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
+    "DWLM": (1.0, 0.45, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1300 / 1300, 1.0),
 }
 MODES = tuple(THRESHOLDS)
+#: modes whose QP drops the symmetric-lift posture rows MC#4, MC#5, MC#9: with a clutch engaged the
+#: rocker rate of a side lifts a wheel instead of its hinge, which those linearised rows do not model
+LIFTING_MODES = ("SWLM", "DWLM")
 
 
 def thresholds(mode: str) -> np.ndarray:
@@ -107,6 +113,15 @@ def thresholds(mode: str) -> np.ndarray:
         return np.array(THRESHOLDS[mode], float)
     except KeyError:
         raise ValueError(f"mode={mode!r} is unknown; valid: {', '.join(MODES)}") from None
+
+
+def qp_thresholds(mode: str) -> np.ndarray:
+    """The kappa vector the saturated IK enforces in ``mode`` (:data:`LIFTING_MODES` without the
+    rows MC#4, MC#5, MC#9)."""
+    k = thresholds(mode)
+    if mode in LIFTING_MODES:
+        k[[NAMES.index("MC4"), NAMES.index("MC5"), NAMES.index("MC9")]] = INF
+    return k
 
 
 # ---------------------------------------------------------------------------- ratios

@@ -41,6 +41,7 @@ from terrabench.systems.srwmr.kinematics import (
     geometry,
     inverse_kinematics,
 )
+from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
 from terrabench.systems.srwmr.robot import RobotConfig
 
 #: ratios the supervisor halts on (index into constraints.NAMES): the stability margins of sec. 7.1,
@@ -66,6 +67,10 @@ class Step:
         cycles: RCM cycles.  amp: RCM closing-angle swing per cycle (rad).
         auto_rcm: WRM: switch to RCM when the climbing efficiency drops below the threshold.
         until_x: WRM/RCM: the step ends once the start-frame x passes this (m) (None: dist).
+        lift: SWLM/DWLM wheels lifted (MC#1: one wheel / a symmetric pair, e.g. ("c2",), ("c1", "c2")).
+        height: SWLM/DWLM lift height (m) of the wheel above its side's grounded axles.
+        shift: SWLM/DWLM clearance (m) of the CoM shift before the lift (None: by wheel position,
+            :data:`~terrabench.systems.srwmr.legged.SHIFT`). SWLM/DWLM ``dist``: the roll while lifted.
     """
 
     mode: str
@@ -79,6 +84,9 @@ class Step:
     amp: float = 0.3
     auto_rcm: bool = False
     until_x: float | None = None
+    lift: tuple = ()
+    height: float = 0.18
+    shift: float | None = None
 
 
 @dataclass(frozen=True)
@@ -126,6 +134,7 @@ class Command:
     ratios: np.ndarray = field(default_factory=lambda: np.zeros(len(mc.NAMES)))
     stop: str = ""
     step: int = 0
+    clutch: tuple = (False, False)
 
 
 class RoverController:
@@ -135,8 +144,10 @@ class RoverController:
         self, plan: list[Step], robot: RobotConfig, sup: SupervisorConfig, lim: IKLimits, sc: mc.Scales, ts: float
     ):
         for st in plan:
-            if st.mode not in ("WRM", "WCM", "RCLM", "RCM"):
-                raise ValueError(f"mode={st.mode!r} is not implemented; valid: WRM, WCM, RCLM, RCM")
+            if st.mode not in ("WRM", "WCM", "RCLM", "RCM") + LEGGED:
+                raise ValueError(f"mode={st.mode!r} is not implemented; valid: WRM, WCM, RCLM, RCM, SWLM, DWLM")
+            if st.mode in LEGGED:
+                check_lift(st.mode, st.lift)  # MC#1 before any simulation
         self.plan, self.robot, self.sup, self.lim, self.sc, self.ts = list(plan), robot, sup, lim, sc, ts
         self.ik = SaturatedIK(robot, lim, sc, ts)
         self.events: list[Transition] = []
@@ -155,12 +166,17 @@ class RoverController:
         self.hist: deque[tuple[float, float, float]] = deque()
         self.cmd_prog = 0.0
         self.health_t: float | None = None
+        self.legged: LeggedAction | None = None
+        self.clutch = (False, False)
+        self.legged_log: list[dict] = []
 
     # ---------------------------------------------------------------- bookkeeping
     def info(self) -> dict:
         out = events_info(self.events)
         out.update(self.ik.timing())
         out["reminders"] = dict(self.reminders)
+        if self.legged_log or self.legged is not None:
+            out["legged"] = self.legged_log + ([] if self.legged is None else self.legged.log)
         return out
 
     def _enter(self, t: float, mode: str, reason: str) -> None:
@@ -172,6 +188,11 @@ class RoverController:
         self.k += 1
         self.phase = 0
         self.returning = False
+        if self.legged is not None:
+            # a legged step ends with its clutches released (also after a reverse)
+            self.legged_log += self.legged.log
+            self.legged = None
+        self.clutch = (False, False)
         if self.k >= len(self.plan):
             self._enter(obs.t, "DONE", reason)
             self.stop = self.stop or "plan complete"
@@ -179,6 +200,8 @@ class RoverController:
         st = self.plan[self.k]
         self.step_start = (obs.xy.copy(), obs.yaw, obs.delta.copy(), obs.t)
         self.cycle = 0
+        if st.mode in LEGGED:
+            self.legged = LeggedAction(self.robot, st, obs)
         self._enter(obs.t, st.mode, reason)
 
     def _local(self, obs) -> tuple[float, float, float]:
@@ -210,7 +233,8 @@ class RoverController:
         if self.halt_t is not None:
             waited = obs.t - self.halt_t
             rep = self.sup.reply_s
-            if rep is not None and waited >= rep:
+            if rep is not None and waited >= rep and not self.returning:
+                # (a forced return is not cut short by the reply)
                 self.halt_t = None
                 self.events.append(Transition(obs.t, "HALT", self.plan[self.k].mode, "operator replied: action ended"))
                 st = self.plan[self.k]
@@ -223,6 +247,8 @@ class RoverController:
                     self.phase += 1
                     if self.phase == 1:
                         self.y_start = self._local(obs)[1]
+                elif st.mode in LEGGED and self.legged is not None and self.legged.name != "restore":
+                    self.legged.advance(obs, "operator replied: action ended")
                 else:
                     self._next(obs, "operator: next action")
                 return self._command(obs, np.zeros(5), hold=True)
@@ -242,6 +268,11 @@ class RoverController:
             u_nom, done, steer_only = self._wcm(obs, st)
         elif st.mode == "RCLM":
             u_nom, done = self._rclm(obs, st)
+        elif st.mode in LEGGED:
+            u_nom, done = self.legged.command(self, obs, x)
+            u_nom = self.legged.level(self, obs, u_nom)
+            self.clutch = self.legged.clutch
+            lifted = self.legged.lifted
         else:
             u_nom, done = self._rcm(obs, st, x)
         if done:
@@ -292,10 +323,14 @@ class RoverController:
         kappa = mc.thresholds(st.mode)
         J, P = self._J, self._susp[0]
         wb = np.array([P[0, 0] - P[2, 0], P[1, 0] - P[3, 0]])
-        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa, J, wb)
+        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), mc.qp_thresholds(st.mode), J, wb)
         if u is None:
             return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
         ratios = self._ratios(obs, u, J, wb)
+        if st.mode in LEGGED:
+            # a clutched side lifts a wheel, not its hinge: MC#4 is the measured left-right hinge
+            # height difference (IMU roll over the hinge track), not the symmetric-lift model's
+            ratios[2] = mc.eta_roll(np.array([self.robot.hinge_track * math.sin(float(obs.rpy[0])), 0.0]), self.sc)
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
         over = np.where(MONITORED, ratios / kappa, 0.0)
@@ -479,6 +514,7 @@ class RoverController:
                     np.zeros(len(mc.NAMES)) if ratios is None else ratios,
                     self.stop,
                     self.k,
+                    self.clutch,
                 )
         mu, spin = inverse_kinematics(
             self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
@@ -507,4 +543,5 @@ class RoverController:
             np.zeros(len(mc.NAMES)) if ratios is None else ratios,
             self.stop,
             self.k,
+            self.clutch,
         )

@@ -31,7 +31,15 @@ APPLIES = {
     "t11-slope15": ("wrm", "rcm"),
     "t14-obstacle": ("wrm", "wcm", "rclm"),
     **{s: ("wrm", "rcm") for s in SLOPES},
+    **{s: ("swlm", "dwlm") for s in ("t12-lift100", "t12-lift150", "t12-lift200", "t13-front", "t13-middle",
+                                     "t13-rear")},
+    "t6-bricks": ("swlm",),
+    "t7-stairs": ("dwlm",),
 }
+APPLIES["t14-obstacle"] = APPLIES["t14-obstacle"] + ("swlm",)
+#: the wheel-legged instances (SWLM / DWLM: T6, T7, T12, T13; T14's SWLM row is in t14-obstacle)
+LEGGED_TASKS = ("t6-bricks", "t7-stairs", "t12-lift100", "t12-lift150", "t12-lift200", "t13-front", "t13-middle",
+                "t13-rear")
 #: T14 obstacle (m): length along the path, width, height [S 150 x 550 x 190 mm]; margin [S 300 mm]
 OBSTACLE = (0.15, 0.55, 0.19)
 MARGIN = 0.3
@@ -80,8 +88,9 @@ def ramp(foot: float, deg: float, base: float = 0.0, length: float = 6.0) -> tup
     return ((-20.0, base), (foot, base), (foot + length, base + t * length), (foot + length + 20.0, base + t * length))
 
 
-def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6) -> Layout:
-    """The terrain, soil, plan and goal of ``instance`` run with ``method``."""
+def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6, lift: str = "") -> Layout:
+    """The terrain, soil, plan and goal of ``instance`` run with ``method`` (``lift``: the wheels a
+    T12/T13 SWLM/DWLM trial lifts, e.g. "c1" or "c1+c2"; empty: the instance's own)."""
     if method not in APPLIES.get(instance, ()):
         valid = ", ".join(APPLIES.get(instance, ())) or "none"
         raise ValueError(f"method {method!r} does not apply to instance {instance!r}; valid: {valid}")
@@ -157,6 +166,8 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
     if instance == "t8-speeds":
         plan = tuple(Step("WRM", v=v, dist=v * 60.0) for v in (0.005, 0.015, 0.025, 0.015, 0.005))
         return Layout(flat, (), "loose", plan, None, 700.0, note="WRM 5/15/25/15/5 mm/s, 60 s each [S Task 8]")
+    if instance == "t14-obstacle" and method == "swlm":
+        return legged_layout(instance, method, robot, lift)
     if instance == "t14-obstacle":
         L, W, H = OBSTACLE
         near = a + r + MARGIN
@@ -192,4 +203,95 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
             900.0,
             note="obstacle 150 x 550 x 190 mm at 15 mm/s, start/end 300 mm from it [S Task 14]",
         )
-    raise ValueError(f"unknown srwmr instance {instance!r}; valid: {', '.join(TASKS + SLOPES)}")
+    if instance in LEGGED_TASKS:
+        return legged_layout(instance, method, robot, lift)
+    raise ValueError(f"unknown srwmr instance {instance!r}; valid: {', '.join(TASKS + LEGGED_TASKS + SLOPES)}")
+
+
+# ---------------------------------------------------------------------------- wheel-legged tasks
+#: T6 brick pile (m): length along x, width, height [S height 150 mm; R: one brick length 240 mm,
+#: 300 mm wide under the right wheels' track]; T7 stair step height (m) [R: the T6 pile height]
+T6_PILE = (0.24, 0.30, 0.15)
+T7_STEP = 0.15
+#: wheel lift heights (m): T6 and T7 180 mm [S Task 6 "lift the front wheel 180 mm"]; T14 the
+#: obstacle height plus the 30 mm T6 keeps over its pile [R]
+LEGGED_HEIGHT = 0.18
+#: gap (m) from the front wheel's outer edge to the obstacle at the start [S T14: 300 mm]; clearance
+#: (m) a lowered wheel keeps past an obstacle edge [R]
+LEGGED_GAP, LEGGED_CLEAR = 0.3, 0.05
+#: T12 / T13: lifted heights (m) and the roll (m) at 25 mm/s [S Tasks 12, 13]
+T12_HEIGHTS = {"t12-lift100": 0.10, "t12-lift150": 0.15, "t12-lift200": 0.20}
+T13_POS = {"t13-front": "front", "t13-middle": "middle", "t13-rear": "rear"}
+T12_ROLL = 0.9
+
+
+def _right(pos: str) -> str:
+    return {"front": "c2", "middle": "c4", "rear": "c6"}[pos]
+
+
+def _pair(pos: str) -> tuple[str, str]:
+    return {"front": ("c1", "c2"), "middle": ("c3", "c4"), "rear": ("c5", "c6")}[pos]
+
+
+def _crossing_plan(robot: RobotConfig, mode: str, x_near: float, land: float, height: float, v: float):
+    """Three legged steps (front, middle, rear) that carry each lifted wheel from before ``x_near``
+    to ``land`` (its centre's x, m) and the chassis x where the plan ends. Each roll follows from
+    the axle's x at the step's clearance (kinematics at the CoM-shift clearance)."""
+    from terrabench.systems.srwmr.kinematics import axle_positions, delta_for_clearance, level_zeta
+    from terrabench.systems.srwmr.legged import SHIFT
+
+    plan, xc = [], 0.0
+    for pos, wi in (("front", 0), ("middle", 2), ("rear", 4)):
+        cl = SHIFT[pos] if SHIFT[pos] is not None else robot.clearance
+        d = delta_for_clearance(robot, cl)
+        xw = float(axle_positions(robot, [d, d], level_zeta(robot, [d, d]))[wi, 0])
+        if xc + xw + robot.wheel_radius > x_near - 0.01:
+            raise ValueError(f"the {pos} wheel starts against the obstacle (x {xc + xw:.2f} m); layout too short")
+        dist = land - (xc + xw)
+        lift = (_right(pos),) if mode == "SWLM" else _pair(pos)
+        plan.append(Step(mode, v=v, lift=lift, height=height, dist=dist))
+        xc += dist
+    return plan, xc
+
+
+def legged_layout(instance: str, method: str, robot: RobotConfig, lift: str = "") -> Layout:
+    """T6 (SWLM over a brick pile), T7 (DWLM up a stair), T12/T13 (SWLM/DWLM lifts on loose soil)
+    and T14's SWLM row: the scripted operator's legged plans (legged.py)."""
+    a, r = robot.front_len, robot.wheel_radius
+    mode = method.upper()
+    flat = ((-50.0, 0.0), (50.0, 0.0))
+    x_near = a + r + LEGGED_GAP
+    if instance == "t6-bricks":
+        L, W, H = T6_PILE
+        plan, xc = _crossing_plan(robot, "SWLM", x_near, x_near + L + r + LEGGED_CLEAR, LEGGED_HEIGHT, 0.025)
+        box = ((x_near + L / 2, -robot.track / 2, L / 2, W / 2, H / 2),)
+        return Layout(flat, box, "loose", tuple(plan), xc - 0.05, 900.0,
+                      note="SWLM right wheels in sequence over a 150 mm brick pile [S Task 6]; pile 240 x 300 mm [R]")
+    if instance == "t7-stairs":
+        floor, top = 0.01, 0.01 + T7_STEP
+        plan, xc = _crossing_plan(robot, "DWLM", x_near, x_near + r + LEGGED_CLEAR, LEGGED_HEIGHT, 0.025)
+        boxes = ((0.0, 0.0, 10.0, 2.0, floor / 2), (x_near + 2.0, 0.0, 2.0, 2.0, top / 2))
+        return Layout(flat, boxes, "loose", tuple(plan), xc - 0.05, 900.0, z0=0.05,
+                      note="DWLM pairs in sequence up a 150 mm stair step, rigid floor and step [S Task 7 'hard, "
+                           "stair, and wood terrains'; step height R]")
+    if instance == "t14-obstacle":
+        L, W, H = OBSTACLE
+        far = x_near + L
+        end = far + MARGIN + a + r
+        plan, xc = _crossing_plan(robot, "SWLM", x_near, far + r + LEGGED_CLEAR, H + 0.03, 0.015)
+        plan.append(Step("WRM", v=0.015, dist=10.0, until_x=end))
+        box = ((x_near + L / 2, -robot.track / 2, L / 2, W / 2, H / 2),)
+        return Layout(flat, box, "loose", tuple(plan), end, 1500.0,
+                      note="SWLM right wheels in sequence over the 150 x 550 x 190 mm obstacle at 15 mm/s [S Task "
+                           "14]; the obstacle lies under the right wheels' track [R: centred it passes between them]")
+    if instance in T12_HEIGHTS or instance in T13_POS:
+        h = T12_HEIGHTS.get(instance, 0.20)
+        pos = T13_POS.get(instance, "front")
+        wheels = tuple(lift.split("+")) if lift else ((_right(pos),) if mode == "SWLM" else _pair(pos))
+        plan = (Step(mode, v=0.025, lift=wheels, height=h, dist=T12_ROLL),)
+        what = "Task 12: the front-right wheel / both front wheels" if instance in T12_HEIGHTS else \
+            f"Task 13: the {pos} wheel(s)"
+        return Layout(flat, (), "loose", plan, None, 400.0,
+                      note=f"{mode} lift {'+'.join(wheels)} {1000 * h:.0f} mm, roll 900 mm at 25 mm/s, lower "
+                           f"[S {what}]")
+    raise ValueError(f"instance {instance!r} has no legged layout; valid: {', '.join(LEGGED_TASKS)}, t14-obstacle")

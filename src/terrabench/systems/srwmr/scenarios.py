@@ -2,7 +2,8 @@
 
 Methods are the locomotion strategies the scripted operator uses: ``wrm`` (wheel rolling),
 ``wcm`` (crabbing), ``rclm`` (chassis lifting), ``rcm`` (creeping, entered from WRM when the
-climbing efficiency drops below 10 %). Each instance lists the methods that apply to it
+climbing efficiency drops below 10 %), ``swlm`` / ``dwlm`` (one wheel / a symmetric pair lifted with
+the clutch engaged, :mod:`~terrabench.systems.srwmr.legged`). Each instance lists the methods that apply to it
 (:data:`~terrabench.systems.srwmr.layouts.APPLIES`); planning drops the other pairs.
 """
 
@@ -29,6 +30,14 @@ METHODS = {
     "rcm": MethodInfo(
         "rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",)
     ),
+    "swlm": MethodInfo(
+        "swlm", "single wheel legged mode: CoM shift, clutch, lift one wheel (MC#1), roll, lower, release",
+        ("suspension", "clutch"),
+    ),
+    "dwlm": MethodInfo(
+        "dwlm", "double wheel legged mode: as SWLM with a symmetric pair (c1+c2, c3+c4, c5+c6)",
+        ("suspension", "clutch"),
+    ),
 }
 
 
@@ -39,10 +48,11 @@ class SRWMRSystem(System):
     status_notes = {"success": "the chassis passed the task's goal line, or the plan ended at it",
                     "stuck": "a health halt (body slip >= supervisor.health_slip) or a plan ended short of the goal",
                     "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
-    summary = "HIT-MRII reconfigurable rover: constraint-saturated IK, WRM/WCM/RCLM/RCM on loose soil (Qi et al.)"
+    summary = ("HIT-MRII reconfigurable rover: constraint-saturated IK, WRM/WCM/RCLM/RCM/SWLM/DWLM on loose soil "
+               "(Qi et al.)")
     config_cls = SRWMRConfig
     groups = {
-        "tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T8, T11, T14)",
+        "tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T6, T7, T8, T11, T12, T13, T14)",
         "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)",
     }
     default_group = "tasks"
@@ -57,13 +67,13 @@ class SRWMRSystem(System):
         return dict(METHODS)
 
     def instances(self, group: str | None) -> list[str]:
-        from terrabench.systems.srwmr.layouts import SLOPES, TASKS
+        from terrabench.systems.srwmr.layouts import LEGGED_TASKS, SLOPES, TASKS
 
         if group == "tasks":
-            return list(TASKS)
+            return list(TASKS) + list(LEGGED_TASKS)
         if group == "slopes":
             return list(SLOPES)
-        return list(TASKS) + list(SLOPES)
+        return list(TASKS) + list(LEGGED_TASKS) + list(SLOPES)
 
     def scenario(self, method: str, instance: str) -> str:
         return SLOPE_SCENARIO if instance.startswith("slope-") else SCENARIO
@@ -85,7 +95,26 @@ class SRWMRSystem(System):
             asked = sorted({s.instance for s in specs})
             valid = "; ".join(f"{i}: {', '.join(APPLIES.get(i, ()))}" for i in asked)
             raise ValueError(f"no requested method applies to the requested instance(s); valid: {valid}")
+        self._check_lifts(kept)
         return kept
+
+    def _check_lifts(self, specs) -> None:
+        """MC#1 and the legged modes' lift rules, before any simulation (one line naming the allowed
+        lifts): each legged trial's plan is built and checked."""
+        from terrabench.systems.srwmr.layouts import layout
+        from terrabench.systems.srwmr.legged import LEGGED, check_lift
+
+        for s in specs:
+            if s.method.upper() not in LEGGED:
+                continue
+            cfg = self.load_config(s.config)
+            lay = layout(s.instance, s.method, cfg.robot, cfg.scene.approach, cfg.scene.lift)
+            for st in lay.plan:
+                if st.mode in LEGGED:
+                    try:
+                        check_lift(st.mode, st.lift)
+                    except ValueError as exc:
+                        raise ValueError(f"scene.lift={cfg.scene.lift!r}: {exc}") from None
 
     def make_task(self, spec: TrialSpec, cfg: SRWMRConfig):
         from terrabench.systems.srwmr.task import SRWMRTask

@@ -24,6 +24,7 @@ from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
 from terrabench.systems.srwmr.layouts import Layout, layout
+from terrabench.systems.srwmr.legged import apply_clutch
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
     SIDES,
@@ -66,7 +67,7 @@ class SRWMRTask(TaskBase):
 
     def __init__(self, method: str, instance: str, cfg: SRWMRConfig, seed: int = 0):
         self.method, self.instance, self.cfg, self.seed = method, instance, cfg, seed
-        self.layout: Layout = layout(instance, method, cfg.robot, cfg.scene.approach)
+        self.layout: Layout = layout(instance, method, cfg.robot, cfg.scene.approach, cfg.scene.lift)
         pr = cfg.protocol
         self.physics = cfg.physics
         timeout = pr.timeout or self.layout.timeout
@@ -159,6 +160,7 @@ class SRWMRTask(TaskBase):
         data.ctrl[self.a_rock] = -d0
         self.chassis = model.body(Names.CHASSIS).id
         self.obs = Observation(model, data, self.rng)
+        self.clutch = (False, False)
         self.x_start = float(data.xpos[self.chassis, 0])
         self.z_start = float(data.xpos[self.chassis, 2])
         return self.obs
@@ -180,7 +182,7 @@ class SRWMRTask(TaskBase):
             if goal is None or x >= goal - 0.05:
                 return "success", cmd.stop
             return "stuck", f"{cmd.stop} short of the goal (x {x:.2f} < {goal:.2f} m)"
-        if goal is not None and x >= goal and self.method != "wcm" and self.method != "rclm":
+        if goal is not None and x >= goal and self.method not in ("wcm", "rclm", "swlm", "dwlm"):
             return "success", f"chassis past x = {goal:.2f} m"
         return None
 
@@ -189,6 +191,9 @@ class SRWMRTask(TaskBase):
         d.ctrl[self.a_steer] = cmd.steer
         d.ctrl[self.a_drive] = cmd.spin
         d.ctrl[self.a_rock] = -cmd.delta
+        cl = getattr(cmd, "clutch", None)
+        if cl is not None and tuple(cl) != self.clutch:
+            self.clutch = apply_clutch(self.model, d, cl, self.clutch)  # SWLM / DWLM (legged.py)
         self.last_cmd = cmd
 
     def row(self, obs: Observation, cmd) -> tuple[float, ...]:

@@ -1,0 +1,182 @@
+"""SWLM / DWLM (legged.py): MC#1 lift rules, the plans of T6/T7/T12/T13/T14, and a lift on soil that
+is checked against the simulator's ground truth (the wheel leaves the soil, carries no load, the
+clutch holds the bogie, the loads stay within MC#10)."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from terrabench.sim.episode import Episode
+from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr import legged
+from terrabench.systems.srwmr.config import SRWMRConfig
+from terrabench.systems.srwmr.control import RoverController, Step
+from terrabench.systems.srwmr.kinematics import axle_positions, level_zeta, lift_height
+from terrabench.systems.srwmr.layouts import LEGGED_TASKS, T6_PILE, layout
+from terrabench.systems.srwmr.robot import WHEELS, Names, RobotConfig
+from terrabench.systems.srwmr.scenarios import SYSTEM
+from terrabench.systems.srwmr.task import SRWMRTask
+
+CFG = RobotConfig()
+
+
+def test_lift_rules_follow_mc1_and_the_mode():
+    assert legged.check_lift("SWLM", ("c2",)) == ("c2",)
+    assert legged.check_lift("DWLM", ("c2", "c1")) == ("c1", "c2")
+    with pytest.raises(ValueError, match=r"allowed lifts: c1, c2, c3, c4, c5, c6$"):
+        legged.check_lift("SWLM", ("c1", "c2"))  # a pair is DWLM
+    with pytest.raises(ValueError, match=r"allowed lifts: c1\+c2, c3\+c4, c5\+c6$"):
+        legged.check_lift("DWLM", ("c1", "c4"))  # allowed by MC#1 but not symmetric
+    with pytest.raises(ValueError, match="violates MC#1.*allowed lifts: .*c4\\+c5"):
+        legged.check_lift("DWLM", ("c1", "c6"))  # front and rear together
+    with pytest.raises(ValueError, match="violates MC#1"):
+        legged.check_lift("SWLM", ("c1", "c3"))  # two on one side
+    with pytest.raises(ValueError, match="not a wheel-lifting mode"):
+        legged.allowed("RCLM")
+
+
+def test_a_bad_lift_request_fails_before_any_simulation(tmp_path):
+    with pytest.raises(ValueError, match=r"scene.lift='c1\+c2'.*allowed lifts: c1, c2"):
+        SYSTEM.plan(methods=["swlm"], instances=["t12-lift100"], overrides={"scene.lift": "c1+c2"})
+    with pytest.raises(ValueError, match=r"c1\+c6"):
+        SYSTEM.plan(methods=["dwlm"], instances=["t13-front"], overrides={"scene.lift": "c1+c6"})
+    store = tmp_path / "s.duckdb"
+    p = subprocess.run(
+        [sys.executable, "-m", "terrabench.cli", "run", "srwmr", "--terrains", "t12-lift100", "--methods", "swlm",
+         "--set", "scene.lift=c1+c6", "--store", str(store)],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert p.returncode == 2, p.stderr
+    err = " ".join(p.stderr.split())
+    assert "c1+c6" in err and "c1+c2" in err and "c4+c5" in err
+    assert not store.exists()
+
+
+def test_legged_plans_lift_in_sequence_and_carry_each_wheel_past_the_pile():
+    lay = layout("t6-bricks", "swlm", CFG)
+    assert [st.lift for st in lay.plan] == [("c2",), ("c4",), ("c6",)]
+    (cx, cy, hx, hy, hz), = lay.boxes
+    assert 2 * hz == pytest.approx(0.15) and abs(cy + CFG.track / 2) < 1e-9  # 150 mm under the right track
+    assert all(st.height > 2 * hz for st in lay.plan)
+    far = cx + hx
+    # the kinematic axle x before each lift plus its roll ends with the wheel past the far face
+    xc = 0.0
+    for st, wi in zip(lay.plan, (0, 2, 4)):
+        sh = legged.SHIFT[legged.position(st.lift)]
+        from terrabench.systems.srwmr.kinematics import delta_for_clearance
+
+        d = delta_for_clearance(CFG, sh if sh is not None else CFG.clearance)
+        xw = axle_positions(CFG, [d, d], level_zeta(CFG, [d, d]))[wi, 0]
+        assert xc + xw + CFG.wheel_radius < cx - hx  # starts short of the pile
+        assert xc + xw + st.dist - CFG.wheel_radius > far  # ends past it
+        xc += st.dist
+    assert [st.lift for st in layout("t7-stairs", "dwlm", CFG).plan] == [("c1", "c2"), ("c3", "c4"), ("c5", "c6")]
+    t14 = layout("t14-obstacle", "swlm", CFG)
+    assert t14.plan[-1].mode == "WRM" and all(st.height > 0.19 for st in t14.plan[:3])
+    for inst in LEGGED_TASKS:
+        for m in ("swlm", "dwlm"):
+            try:
+                lay = layout(inst, m, CFG)
+            except ValueError:
+                continue
+            for st in lay.plan:
+                if st.mode in legged.LEGGED:
+                    legged.check_lift(st.mode, st.lift)
+    assert T6_PILE[2] == 0.15
+
+
+def test_lift_estimate_is_zero_level_and_follows_the_clutched_geometry():
+    class Enc:
+        pass
+
+    o = Enc()
+    d0 = 0.0
+    o.delta, o.zeta, o.phi, o.rpy = np.array([d0, d0]), np.array([d0, d0]), np.zeros(2), np.zeros(3)
+    assert np.allclose(legged.lift_estimate(CFG, o, [0, 1, 2, 3, 4, 5]), 0.0, atol=1e-9)
+    # clutch engaged at d0 (bogie angle frozen), right hinge opened by 0.2 rad: the front axle rises
+    # above the middle-rear line by the rigid-link amount (kinematics.lift_height), whatever the pitch
+    o.delta = np.array([d0, d0 - 0.2])
+    for pitch in (0.0, 0.08):
+        o.rpy = np.array([0.0, pitch, 0.0])
+        h = float(legged.lift_estimate(CFG, o, [1])[0])
+        assert h == pytest.approx(lift_height(CFG, "front", -0.2, d0), rel=0.05)
+    o.delta, o.rpy = np.array([d0, d0 + 0.2]), np.zeros(3)
+    assert legged.lift_estimate(CFG, o, [3])[0] == pytest.approx(lift_height(CFG, "middle", 0.2, d0), rel=0.05)
+    # the IMU attitude enters: a pitched chassis changes the axles' world heights
+    o.delta, o.rpy = np.array([d0, d0]), np.array([0.0, 0.1, 0.0])
+    z = legged.axle_heights(CFG, o)
+    assert z[0] > z[4] + 0.1  # nose up: the front axle above the rear one
+
+
+def test_legged_qp_drops_the_symmetric_posture_rows_only():
+    k = mc.qp_thresholds("SWLM")
+    for n in ("MC4", "MC5", "MC9"):
+        assert np.isinf(k[mc.NAMES.index(n)])
+    assert k[mc.NAMES.index("MC10")] * 1300 == pytest.approx(1100)  # [S] SWLM 1100 N
+    assert mc.thresholds("DWLM")[mc.NAMES.index("MC10")] * 1300 == pytest.approx(1300)  # [S] DWLM 1300 N
+    assert np.array_equal(mc.qp_thresholds("RCLM"), mc.thresholds("RCLM"))
+    with pytest.raises(ValueError, match="not implemented|violates MC#1"):
+        RoverController([Step("SWLM", lift=("c1", "c6"))], CFG, SRWMRConfig().supervisor, SRWMRConfig().limits,
+                        mc.Scales(), 0.01)
+
+
+def _lift_run(step: Step, t_max: float):
+    """A legged step on flat loose soil; per period the truth: wheel bottoms over the ground, soil
+    normal forces, bogie angles, clutch state and the F/T W_diff the supervisor saw."""
+    cfg = SRWMRConfig()
+    task = SRWMRTask("swlm", "t13-middle", cfg, 0)
+    ep = Episode(task)
+    m, d = ep.model, ep.data
+    wid = [m.body(Names.wheel(c)).id for c in WHEELS]
+    bog = [m.joint(Names.bogie(s)).qposadr[0] for s in "LR"]
+    ctl = RoverController([step], cfg.robot, cfg.supervisor, cfg.limits, cfg.scales, 0.01)
+    rec = []
+    obs, stop = ep.begin()
+    while stop is None and obs.t < t_max:
+        cmd = ctl(obs)
+        obs, stop = ep.step(cmd)
+        rec.append((obs.t, ctl.legged.name if ctl.legged else "after", d.xpos[wid, 2] - CFG.wheel_radius,
+                    task.soil_wheels.truth["Fn"].copy(), d.qpos[bog].copy(), task.clutch, ctl.mode,
+                    float(obs.load.max() - obs.load.min())))
+    return rec, ctl
+
+
+def test_swlm_lifts_the_middle_wheel_off_the_soil_with_the_clutch_holding_the_bogie():
+    rec, ctl = _lift_run(Step("SWLM", v=0.025, lift=("c4",), height=0.08, dist=0.1), 60.0)
+    ph = [r[1] for r in rec]
+    assert "lower" in ph and "roll" in ph, ph[-1]
+    i_lift0 = ph.index("lift")
+    roll = [r for r in rec if r[1] == "roll"]
+    bottom = np.array([r[2] for r in roll])
+    fn = np.array([r[3] for r in roll])
+    ground0 = rec[i_lift0][2][3]  # c4's bottom (sunk) when the lift began
+    # the lifted wheel is above the soil surface (z = 0) and well above where it stood, and carries ~0
+    assert np.min(bottom[:, 3]) > 0.0
+    assert np.min(bottom[:, 3] - ground0) > 0.6 * 0.08
+    assert np.max(fn[:, 3]) < 5.0
+    assert np.min(fn[:, [0, 1, 2, 4, 5]]) > 100.0  # the others carry the rover
+    # its redistributed load: the right front and rear wheels take it (the paper's "front and rear
+    # wheels almost equally shared the additional wheel loads when the middle wheel was lifted")
+    assert fn[-1, 1] > 450 and fn[-1, 5] > 450
+    # the clutch engaged on the right only; the right bogie angle is held while the rocker turns
+    cl = [r[5] for r in rec if r[1] in ("lift", "roll")]
+    assert all(c == (False, True) for c in cl)
+    zr = np.array([r[4][1] for r in rec if r[1] in ("lift", "roll")])
+    assert np.ptp(zr) < 0.01
+    # the supervisor kept W_diff within MC#10 (1100 N SWLM) outside halts
+    wd = [r[7] for r in rec if r[6] == "SWLM"]
+    assert max(wd) < 1100 + 50
+    # lowered: the wheel carries load again and the clutch is released
+    done = [r for r in rec if r[1] in ("release", "restore", "after")]
+    assert done and done[-1][3][3] > 150.0 and done[-1][5] == (False, False)
+
+
+@pytest.mark.slow
+def test_swlm_front_lift_needs_the_com_shift_and_reaches_the_height():
+    rec, ctl = _lift_run(Step("SWLM", v=0.025, lift=("c2",), height=0.15, dist=0.1), 200.0)
+    roll = [r for r in rec if r[1] == "roll"]
+    assert roll
+    assert min(r[2][1] for r in roll) > 0.05  # the front-right bottom well above the soil
+    assert max(r[3][1] for r in roll) < 5.0

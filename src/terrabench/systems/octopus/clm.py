@@ -88,6 +88,12 @@ class CLMConfig:
             IMU pitch) that has stopped rising for edge_time (s) is, with an up-step sensed, an edge
             ahead as the limit A0 is: at a low riser the edge presses near the pivot and the torque
             rule stalls below the limit (the CLM riser stalls at 100-250 mm).
+        mount_pitch: the nose pitched up this much (IMU) with an up-step sensed (four tips down)
+            also starts a climb: the crawlers are mounting an edge with the rear below it, as on the
+            next terrace after a release; the lift then raises the rear first (pitch_cap).
+        max_resumes: releases that may go back to climbing when the nose rises (release_tilt);
+            0 (default): the release walks on and the walk's triggers (mount_pitch) start a fresh
+            climb with H_EST re-estimated from the four tips, per terrace.
         climb_hold: while the lifted body drives, the supporting tips hold their footholds (their
             targets move back by the crawler travel, as in walking), so a front tip on a short tread
             does not roll into the next riser and block the climb.
@@ -155,6 +161,9 @@ class CLMConfig:
     edge_angle: float = param(1.2, gt=0, le=math.pi, unit="rad",
                               doc="a front flipper this steep (level frame), no longer rising, with an up-step: climb")
     edge_time: float = param(1.0, ge=0, unit="s", doc="the steep front flipper has stopped rising this long")
+    mount_pitch: float = param(0.35, gt=0, le=math.pi / 2, unit="rad",
+                               doc="the nose pitched up this much with an up-step sensed starts the climb")
+    max_resumes: int = param(0, ge=0, doc="releases that may resume the climb (nose rising) before walking on")
     climb_hold: bool = param(True, doc="while climbing, supporting tips hold their footholds (arm moving)")
 
 
@@ -357,6 +366,7 @@ class CLMController:
         self.s_release = cfg.climb_distance
         self.heading = 0.0  # integrated gyro yaw rate (rad): the operator's move direction is 0
         self.release_pitch = 0.0
+        self.resumes = 0  # climbs resumed from this release (s)
         self.events: list[Transition] = []
 
     def info(self) -> dict:
@@ -585,7 +595,8 @@ class CLMController:
                 self.release_pitch = obs.pitch
                 self._goto(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
         else:  # RELEASE (eqs. 28-29 second cases), at quasi-static rates
-            if obs.pitch - self.release_pitch > cfg.release_tilt:
+            if obs.pitch - self.release_pitch > cfg.release_tilt and self.resumes < cfg.max_resumes:
+                self.resumes += 1
                 # the nose rises while the booms come up: the rear is dropping, the COG is not yet
                 # over the top (odometry counted slip): lift again and drive on
                 self.s_release = self.s + cfg.release_more
@@ -654,12 +665,18 @@ class CLMController:
             if self.flip_still == 0.0:
                 self.flip_prev = qf
             steep = qf + obs.pitch > cfg.edge_angle and self.flip_still > cfg.edge_time
-            if all_down and self.last_case == UP and (at_limit or steep):
+            # the nose pitched up this much with an up-step sensed: the crawlers are mounting an
+            # edge with the rear below it (the next terrace after a release): lift the rear too
+            mounting = obs.pitch > cfg.mount_pitch
+            if all_down and self.last_case == UP and (at_limit or steep or mounting):
                 # per terrace: the nearer (lower) front tip's height over the rear tips
                 self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
-                self.s, self.s_release = 0.0, cfg.climb_distance
+                self.s, self.s_release, self.resumes = 0.0, cfg.climb_distance, 0
                 self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
-                self._goto(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, front flippers at the limit")
+                why = ("front flippers at the limit" if at_limit else
+                       f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
+                       f"nose up {obs.pitch:.2f} rad")
+                self._goto(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, {why}")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c

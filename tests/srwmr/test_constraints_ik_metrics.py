@@ -48,7 +48,7 @@ def test_qp_passes_a_feasible_command_and_saturates_a_jump():
 
 def test_qp_mc3_blocks_further_closing_past_its_threshold():
     ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
-    st = IKState(np.array([0.95, 0.95]), np.zeros(5))  # wheelbase reduced beyond kappa 0.45
+    st = IKState(np.array([1.05, 1.05]), np.zeros(5))  # wheelbase reduced by 0.567, beyond kappa 0.52
     u = ik.solve(np.array([0.0, 0.0, 0.0, 0.05, 0.05]), st, mc.thresholds("RCLM"))
     assert u is None or np.all(u[3:] <= 1e-9)
 

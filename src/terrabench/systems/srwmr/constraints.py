@@ -94,7 +94,9 @@ THRESHOLDS: dict[str, tuple[float, ...]] = {
     #        MC2  MC3   MC4  MC5  MC6  MC7  MC8  MC9  MC10  MC11
     "WRM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
     "WCM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
-    "RCLM": (1.0, 0.45, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
+    # RCLM MC3 0.52: Task 10 raised the chassis to 550 mm, which here shortens the front-middle
+    # wheelbase to 387 mm (eta 0.50); the wheels touch at 350 mm (eta 0.55)
+    "RCLM": (1.0, 0.52, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
     "RCM": (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
     # SWLM / DWLM: MC10 W_diff <= 1100 N / 1300 N [S Tasks 6, 7], MC11 W_fmr <= 700 N [S]; MC5 not
     # monitored (lifting one side's wheel changes that side's wheelbase by design); MC4 is measured

@@ -195,20 +195,46 @@ def wheel_velocity_matrix(cfg: RobotConfig, delta, mu=None) -> np.ndarray:
     return M
 
 
-def steer_and_spin(v: np.ndarray, r: float, mu_prev=None, v_min: float = 1e-6):
-    """Steering angle in [-pi/2, pi/2] and spin (rad/s) rolling each wheel at ``v`` (6, 2).
+#: a steering angle may pass +-90 deg by this much before it is folded to the other side (rad)
+STEER_HYSTERESIS = math.radians(10.0)
 
-    A wheel with no required velocity keeps ``mu_prev``. Angles past +-90 deg are folded by
-    reversing the spin, so crabbing sideways is +-90 deg either way.
+
+def steer_and_spin(v: np.ndarray, r: float, mu_prev=None, v_min: float = 1e-6):
+    """Steering angle (within +-(90 deg + :data:`STEER_HYSTERESIS`)) and spin (rad/s) rolling each
+    wheel at ``v`` (6, 2).
+
+    A wheel with no required velocity keeps ``mu_prev``. Each heading has two representations,
+    the angle with the spin forwards and the angle turned by 180 deg with the spin reversed; the
+    one within +-90 deg is taken unless the other is nearer ``mu_prev`` and within the
+    hysteresis: crabbing sideways at +-90 deg, a wheel whose required heading wobbles across
+    90 deg (a yaw correction's cross speed changing sign), or a crab to the right entered at
+    +90 deg, keeps its side instead of swinging the steering by 180 deg.
     """
     mu_prev = np.zeros(len(v)) if mu_prev is None else np.asarray(mu_prev, float)
     speed = np.hypot(v[:, 0], v[:, 1])
     ang = np.arctan2(v[:, 1], v[:, 0])
     flip = np.abs(ang) > math.pi / 2 + 1e-9
-    ang = np.where(flip, ang - np.sign(ang) * math.pi, ang)
+    alt = ang - np.sign(ang) * math.pi  # the opposite heading, rolled backwards
+    base = np.where(flip, alt, ang)
+    other = np.where(flip, ang, alt)
+    # the other representation when it is nearer the present angle and within the hysteresis
+    swap = (np.abs(other) <= math.pi / 2 + STEER_HYSTERESIS) & (np.abs(other - mu_prev) < np.abs(base - mu_prev))
+    flip ^= swap
+    ang = np.where(swap, other, base)
     spin = np.where(flip, -speed, speed) / r
     still = speed < v_min
     return np.where(still, mu_prev, ang), np.where(still, 0.0, spin)
+
+
+def differential_kinematics(cfg: RobotConfig, u, geom) -> tuple[np.ndarray, np.ndarray]:
+    """Differential steering (the paper's 3-D differential-drive model, Task 15): every steering
+    angle at 0 and each wheel's spin rolling out the forward component of its required contact
+    velocity ``vx - wz y_i + J_i,x ddelta`` (the lateral component, ``wz x_i``, is left to skid).
+    ``geom``: :func:`geometry` at the current closing angles, no steering offsets."""
+    u = np.asarray(u, float)
+    P, J = geom
+    vx = u[0] - u[2] * P[:, 1] + J[:, 0] * u[3:5][_SIDE_IDX]
+    return np.zeros(6), vx / cfg.wheel_radius
 
 
 def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):

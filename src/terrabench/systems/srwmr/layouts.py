@@ -16,7 +16,21 @@ import numpy as np
 from terrabench.systems.srwmr.control import Step
 from terrabench.systems.srwmr.robot import RobotConfig
 
-TASKS = ("t1-very-loose", "t1-loose", "t3-rclm", "t4-sinkage", "t5-slope10", "t8-speeds", "t11-slope15", "t14-obstacle")
+TASKS = (
+    "t1-very-loose",
+    "t1-loose",
+    "t2-wall",
+    "t3-rclm",
+    "t4-sinkage",
+    "t5-slope10",
+    "t8-speeds",
+    "t9-avoid",
+    "t10-heights",
+    "t11-slope15",
+    "t14-obstacle",
+    "t15-w002",
+    "t15-w003",
+)
 SLOPE_ANGLES = (0, 5, 10, 15, 20, 25)
 SLOPE_SOILS = ("very_loose", "loose")
 SLOPES = tuple(f"slope-{a}-{s}" for s in SLOPE_SOILS for a in SLOPE_ANGLES)
@@ -24,12 +38,17 @@ SLOPES = tuple(f"slope-{a}-{s}" for s in SLOPE_SOILS for a in SLOPE_ANGLES)
 APPLIES = {
     "t1-very-loose": ("wrm",),
     "t1-loose": ("wrm",),
+    "t2-wall": ("wcm",),
     "t3-rclm": ("rclm",),
     "t4-sinkage": ("rcm", "wrm"),
     "t5-slope10": ("rcm", "wrm"),
     "t8-speeds": ("wrm",),
+    "t9-avoid": ("wrm", "wcm"),
+    "t10-heights": ("rclm",),
     "t11-slope15": ("wrm", "rcm"),
     "t14-obstacle": ("wrm", "wcm", "rclm"),
+    "t15-w002": ("rclm",),
+    "t15-w003": ("rclm",),
     **{s: ("wrm", "rcm") for s in SLOPES},
     **{s: ("swlm", "dwlm") for s in ("t12-lift100", "t12-lift150", "t12-lift200", "t13-front", "t13-middle",
                                      "t13-rear")},
@@ -43,6 +62,22 @@ LEGGED_TASKS = ("t6-bricks", "t7-stairs", "t12-lift100", "t12-lift150", "t12-lif
 #: T14 obstacle (m): length along the path, width, height [S 150 x 550 x 190 mm]; margin [S 300 mm]
 OBSTACLE = (0.15, 0.55, 0.19)
 MARGIN = 0.3
+#: T2 brick wall and rock pile (m): half sizes (x, y, z) [R: taller than the 250 mm clearance, so
+#: the chassis cannot straddle them and the rover must crab past]
+T2_WALL = (0.12, 0.5, 0.2)
+T2_ROCKS = (0.15, 0.3, 0.15)
+#: T9 end position B (m, start frame) and the obstacle centre on the start heading [R]
+T9_B = (3.0, 2.0)
+T9_OBSTACLE_X = 2.8
+#: T9 WRM path: a straight start, a 45 deg left arc of this radius (m), then straight to B
+T9_RADIUS = 2.0
+#: T10 chassis heights (m), held and changed in this order [S Task 10: 250, 450, 150, 550, 250 mm]
+T10_HEIGHTS = (0.25, 0.45, 0.15, 0.55, 0.25)
+#: T10 distance driven at each held height (m) [R]
+T10_HOLD = 0.45
+#: T15 yaw rates (rad/s) [S 0.02, 0.03] and the clearances the chassis is lowered between (m) [R]
+T15_RATES = {"t15-w002": 0.02, "t15-w003": 0.03}
+T15_CLEARANCE = (0.45, 0.15)
 
 
 @dataclass(frozen=True)
@@ -162,6 +197,97 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
             timeout,
             slope_deg=deg,
             note=f"flat approach then a {deg:g} deg slope of {soil} soil",
+        )
+    if instance == "t2-wall":
+        v = 0.025
+        lead = 0.3  # period A: WRM towards the wall
+        face = a + r + lead + MARGIN
+        wx, wy, wz_ = T2_WALL
+        rx, ry, rz = T2_ROCKS
+        side = wy + MARGIN + robot.track / 2 + robot.wheel_width / 2
+        past_wall = face + 2 * wx + MARGIN + a + r  # chassis x with the rear wheels 300 mm past the wall
+        rock_face = past_wall + a + r + MARGIN
+        end = rock_face + 2 * rx + MARGIN + a + r
+        boxes = ((face + wx, 0.0, wx, wy, wz_), (rock_face + rx, -side, rx, ry, rz))
+        plan = (
+            Step("WRM", v=v, dist=lead),  # A
+            Step("WCM", v=v, dy=-side),  # B: clockwise 90 deg, crab right past the wall, back
+            Step("WRM", v=v, dist=10.0, until_x=past_wall),  # C
+            Step("WCM", v=v, dy=side),  # D: counterclockwise 90 deg, crab left past the rocks, back
+            Step("WRM", v=v, dist=10.0, until_x=end),  # E
+        )
+        return Layout(
+            flat,
+            boxes,
+            "loose",
+            plan,
+            end,
+            900.0,
+            note="WRM to a brick wall, WCM right past it, WRM to the rocks, WCM left past them, WRM on [S Task 2]; "
+            "25 mm/s (Task 1's speed) and the obstacle sizes [R]",
+        )
+    if instance == "t9-avoid":
+        v = 0.015
+        bx, by = T9_B
+        L, W, H = OBSTACLE
+        box = ((T9_OBSTACLE_X, 0.0, L / 2, W / 2, H / 2),)
+        if method == "wcm":
+            plan = (Step("WCM", v=v, dx=bx, dy=by),)
+        else:
+            R = T9_RADIUS
+            s45 = math.sin(math.pi / 4)
+            # straight start s1 so that the 45 deg line from the arc's end passes through B
+            s1 = bx - by - R * s45 + R * (1 - s45)
+            pts = [(s1 * k / 2, 0.0) for k in (1, 2)]
+            pts += [(s1 + R * math.sin(p), R * (1 - math.cos(p))) for p in np.linspace(0, math.pi / 4, 6)[1:]]
+            ex, ey = pts[-1]
+            n = max(2, int(math.hypot(bx - ex, by - ey) / 0.3))
+            pts += [(ex + (bx - ex) * k / n, ey + (by - ey) * k / n) for k in range(1, n + 1)]
+            plan = (Step("WRM", v=v, waypoints=tuple(pts)),)
+        return Layout(
+            flat,
+            box,
+            "loose",
+            plan,
+            bx,
+            900.0,
+            note=f"from A to B = ({bx:g}, {by:g}) m past an obstacle on the start heading: WRM (Ackermann) "
+            f"on a 45 deg arc of radius {T9_RADIUS:g} m, WCM on the straight line at "
+            f"{math.degrees(math.atan2(by, bx)):.1f} deg [S Task 9; geometry R]; 15 mm/s",
+        )
+    if instance == "t10-heights":
+        v = 0.015
+        hs = T10_HEIGHTS
+        plan = [Step("WRM", v=v, dist=T10_HOLD)]
+        for h in hs[1:-1]:
+            plan += [Step("RCLM", v=v, clearance=h), Step("WRM", v=v, dist=T10_HOLD)]
+        plan.append(Step("RCLM", v=v, clearance=hs[-1]))
+        return Layout(
+            flat,
+            (),
+            "loose",
+            tuple(plan),
+            None,
+            900.0,
+            note="RCLM while driving at 15 mm/s: 250 -> 450 -> 150 -> 550 -> 250 mm, "
+            f"{T10_HOLD:g} m at each held height [S Task 10]",
+        )
+    if instance in T15_RATES:
+        w = T15_RATES[instance]
+        hi, lo = T15_CLEARANCE
+        plan = (
+            Step("RCLM", v=0.0, clearance=hi),
+            Step("RCLM", v=0.0, wz=w, diff=True, clearance=lo),
+        )
+        return Layout(
+            flat,
+            (),
+            "loose",
+            plan,
+            None,
+            400.0,
+            note=f"differential steering in place at {w:g} rad/s while the chassis is lowered "
+            f"{hi * 1000:.0f} -> {lo * 1000:.0f} mm (the wheelbase lengthens) [S Task 15; heights R]",
         )
     if instance == "t8-speeds":
         plan = tuple(Step("WRM", v=v, dist=v * 60.0) for v in (0.005, 0.015, 0.025, 0.015, 0.005))

@@ -27,11 +27,42 @@ def body_slip(v, v_cmd, v_min: float = 1e-4) -> float:
     return float(1.0 - v[sel].sum() / vc[sel].sum())
 
 
+def along_command(v, v_cmd, v_lat=None, vy_cmd=None):
+    """(speed along the commanded direction, commanded speed) per instant: the body velocity
+    (forward ``v``, lateral ``v_lat``) projected on the commanded (``v_cmd``, ``vy_cmd``). Rows
+    with no lateral command are ``(v sign(v_cmd), |v_cmd|)`` exactly, so a crab (WCM) and a
+    forward run share one slip definition."""
+    v, vc = np.asarray(v, float), np.asarray(v_cmd, float)
+    if v_lat is None or vy_cmd is None:
+        return v, vc
+    vl, vyc = np.asarray(v_lat, float), np.nan_to_num(np.asarray(vy_cmd, float))
+    norm = np.hypot(vc, vyc)
+    lateral = vyc != 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        par = np.where(lateral, (v * vc + vl * vyc) / norm, v * np.sign(vc))
+    return par, np.where(lateral, norm, np.abs(vc))
+
+
 def body_slip_series(v, v_cmd, v_min: float = 1e-4):
     """Instantaneous s_b (nan where nothing is commanded)."""
     v, vc = np.asarray(v, float), np.asarray(v_cmd, float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(np.abs(vc) > v_min, 1.0 - v / vc, np.nan)
+
+
+def windowed_slip(v, v_cmd, n: int, v_min: float = 1e-4) -> np.ndarray:
+    """Body slip ``1 - sum(v)/sum(v_cmd)`` over consecutive windows of ``n`` samples (those with
+    a commanded speed; windows with fewer than half such samples dropped)."""
+    v, vc = np.asarray(v, float), np.asarray(v_cmd, float)
+    sel = np.isfinite(vc) & (np.abs(vc) > v_min) & np.isfinite(v)
+    m = len(v) // n
+    if m == 0:
+        return np.array([])
+    s = sel[: m * n].reshape(m, n)
+    sv = np.where(s, v[: m * n].reshape(m, n), 0.0).sum(1)
+    sc = np.where(s, vc[: m * n].reshape(m, n), 0.0).sum(1)
+    ok = s.sum(1) >= n / 2
+    return 1.0 - sv[ok] / sc[ok]
 
 
 def drawbar_coefficient(dp, fn) -> float:
@@ -69,7 +100,11 @@ def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
     """The named figures of a finished episode log (columns of :mod:`terrabench.systems.srwmr.task`)."""
     col = log.column
     x, y, z = col("x"), col("y"), col("z")
-    v, vc = col("v"), col("v_cmd")
+    names = set(log.columns)
+    if {"v_lat", "vy_cmd"} <= names:
+        v, vc = along_command(col("v"), col("v_cmd"), col("v_lat"), col("vy_cmd"))
+    else:
+        v, vc = col("v"), col("v_cmd")
     W = log.block([f"W_{c}" for c in WHEELS])
     wd, wf = load_figures(W)
     moving = np.isfinite(vc) & (np.abs(vc) > 1e-4)
@@ -91,6 +126,10 @@ def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
         else float("nan"),
         "mean_power_W": float(np.nanmean(np.diff(log.data[:, -1])) / log.period) if len(log.data) > 1 else float("nan"),
     }
+    # spread of the slip over 5 s windows (Task 9's ranges)
+    ws = windowed_slip(v, vc, max(1, int(round(5.0 / log.period))))
+    out["slip_p10"] = float(np.percentile(ws, 10)) if len(ws) else float("nan")
+    out["slip_p90"] = float(np.percentile(ws, 90)) if len(ws) else float("nan")
     for n in mc.NAMES:
         e = col(f"eta_{n}")
         out[f"max_eta_{n}"] = float(np.nanmax(e)) if np.isfinite(e).any() else float("nan")

@@ -12,11 +12,17 @@ import numpy as np
 PAPER = {
     ("t1-very-loose", "wrm"): "s_b 0.30-0.65",
     ("t1-loose", "wrm"): "s_b 0.0-0.40",
+    ("t2-wall", "wcm"): "WRM and WCM s_b both around 0.4",
     ("t3-rclm", "rclm"): "RCLM 250->330->480->250 mm; MC#3 max 0.326",
     ("t4-sinkage", "rcm"): "RCM escapes full sinkage (5 RCLM cycles); MC#3 max 0.15",
     ("t5-slope10", "wrm"): "WRM moved 43.65 of 437.75 mm (10 % efficiency)",
     ("t5-slope10", "rcm"): "WRM then RCM (4 cycles) climbs 10 deg; s_b ~0.93 in RCM",
     ("t8-speeds", "wrm"): "s_b 0.18-0.32 at constant speed; EC 11.3/12.2/14/13/11 kJ per stage",
+    ("t9-avoid", "wrm"): "s_b 0.41 (0.27-0.50), 289 s, 69.9 kJ",
+    ("t9-avoid", "wcm"): "s_b 0.31 (0.13-0.37), 271 s, 58.7 kJ",
+    ("t10-heights", "rclm"): "s_b within 0-0.44; P 54/56/57 W held at 150/450/550 mm",
+    ("t15-w002", "rclm"): "yaw rate falls as the wheelbase lengthens; MC#8 max ~0.4",
+    ("t15-w003", "rclm"): "yaw rate falls as the wheelbase lengthens; MC#8 max ~0.4",
     ("t11-slope15", "wrm"): "s_b -> 0.96, health halt at 64 s",
     ("t11-slope15", "rcm"): "RCM holds s_b ~0.44, all wheels on the slope",
     ("t14-obstacle", "wrm"): "4634 mm, 401 s, 97 kJ",
@@ -197,6 +203,17 @@ def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) ->
                        system, spec, times, width=320, height=240)
 
 
+def _robot(rows):
+    """The robot of the group's first stored trial (its geometry turns closing angles into wheelbases)."""
+    from terrabench.systems.srwmr.robot import RobotConfig
+
+    cfg = (rows[0].get("config") or {}).get("robot") if rows else None
+    try:
+        return RobotConfig(**cfg) if isinstance(cfg, dict) else RobotConfig()
+    except (TypeError, ValueError):
+        return RobotConfig()
+
+
 def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any) -> None:
     """The tables, series and timelines of one settings group (file names end in ``slug``)."""
     from terrabench.report.timeline import draw_timelines
@@ -214,6 +231,9 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
         + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
         + "; paper: swlm < rclm < wcm < wrm"
     )
+    from terrabench.systems.srwmr.report_tasks import add_sections
+
+    add_sections(page, store, task_rows, slug, plt, _robot(rows))
     page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
     qp = [
         {

@@ -42,7 +42,9 @@ COLUMNS = (
     ("x", "y", "z", "yaw", "pitch", "roll", "v", "v_cmd", "delta_L", "delta_R", "mode", "step", "slip", "sinkage")
     + tuple(f"W_{c}" for c in WHEELS)
     + ("DP", "P_drive")
+    + tuple(f"DP_{c}" for c in WHEELS)  # per-wheel drawbar pull (N): the PC = DP / W of Tasks 12, 13
     + tuple(f"eta_{n}" for n in mc.NAMES)
+    + ("v_lat", "vy_cmd", "wz", "wz_cmd")
 )
 
 
@@ -203,10 +205,13 @@ class SRWMRTask(TaskBase):
         yaw = obs.rpy[2]
         v = math.cos(yaw) * vw[0] + math.sin(yaw) * vw[1]
         drive_p = float(np.abs(d.actuator_force[self.a_drive] * d.actuator_velocity[self.a_drive]).sum())
+        v_lat = -math.sin(yaw) * vw[0] + math.cos(yaw) * vw[1]
         if cmd is None:
             vc, mode, step, ratios = np.nan, np.nan, np.nan, np.full(len(mc.NAMES), np.nan)
+            vyc = wzc = np.nan
         else:
             vc, mode, ratios = float(cmd.u[0]), float(cmd.mode), cmd.ratios
+            vyc, wzc = float(cmd.u[1]), float(cmd.u[2])
             step = float(getattr(cmd, "step", np.nan))
         return (
             (
@@ -227,7 +232,9 @@ class SRWMRTask(TaskBase):
             )
             + tuple(float(w) for w in t["Fn"])
             + (float(np.sum(t["DP"])), drive_p)
+            + tuple(float(x) for x in t["DP"])
             + tuple(float(x) for x in ratios)
+            + (v_lat, vyc, float(d.qvel[5]), wzc)
         )
 
     def power(self, obs) -> float:

@@ -34,7 +34,7 @@ class Observation:
         tau_elbow: elbow joint torques (N m), arms LF, RF, LR, RR.
     """
 
-    __slots__ = ("_d", "_q", "_tau", "_quat", "_gyro", "t", "roll", "pitch", "yaw_rate", "q_flip", "q_arm",
+    __slots__ = ("_d", "_q", "_tau", "_both", "_quat", "_gyro", "t", "roll", "pitch", "yaw_rate", "q_flip", "q_arm",
                  "tau_flip", "tau_elbow")
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
@@ -47,6 +47,9 @@ class Observation:
         # contiguous addresses (the builder adds the sensors in this order) read as slices
         self._q = slice(int(q[0]), int(q[-1]) + 1) if (np.diff(q) == 1).all() else q
         self._tau = slice(int(tau[0]), int(tau[-1]) + 1) if (np.diff(tau) == 1).all() else tau
+        # encoders and torques adjacent (the builder's order): one copy a tick for both
+        adjacent = isinstance(self._q, slice) and isinstance(self._tau, slice) and self._q.stop == self._tau.start
+        self._both = slice(self._q.start, self._tau.stop) if adjacent else None
         self.refresh()
 
     def refresh(self) -> "Observation":
@@ -55,10 +58,14 @@ class Observation:
         a = self._quat
         self.roll, self.pitch = roll_pitch(s[a: a + 4].tolist())
         g = self._gyro
-        wy, wz = float(s[g + 1]), float(s[g + 2])
+        _, wy, wz = s[g: g + 3].tolist()
         # Z-Y-X Euler rate of the heading from body rates: (wy sin(roll) + wz cos(roll)) / cos(pitch)
         self.yaw_rate = (wy * math.sin(self.roll) + wz * math.cos(self.roll)) / max(math.cos(self.pitch), 1e-3)
-        # one copy per group, the fields are views of it (fresh arrays every tick)
+        # one fresh copy a tick, the fields are views of it
+        if self._both is not None:
+            b = s[self._both].copy()
+            self.q_flip, self.q_arm, self.tau_flip, self.tau_elbow = b[:4], b[4:16].reshape(4, 3), b[16:20], b[20:]
+            return self
         q = s[self._q].copy()
         self.q_flip, self.q_arm = q[:4], q[4:].reshape(4, 3)
         tau = s[self._tau].copy()

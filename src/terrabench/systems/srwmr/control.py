@@ -38,21 +38,20 @@ from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
 from terrabench.systems.srwmr.kinematics import (
     delta_for_clearance,
-    differential_kinematics,
     geometry,
     inverse_kinematics,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
-from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
-
-#: +1 for the left wheels (c1, c3, c5), -1 for the right ones
-_SIDE_SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
+from terrabench.systems.srwmr.robot import RobotConfig
 
 #: ratios the supervisor halts on (index into constraints.NAMES): the stability margins of sec. 7.1,
 #: posture (MC#4, #5) and contact forces (MC#10, #11). MC#6-#9 are kept by the QP; MC#2 and #3 are
 #: "feasibility prerequisites ... not considered as stability-margin indicators" [S] (the QP keeps
 #: MC#3; MC#2 is logged).
 MONITORED = np.array([n in ("MC4", "MC5", "MC10", "MC11") for n in mc.NAMES])
+#: RCM still set: gain (1/s) of the hold on the wheels' rotation over the ground; with the 2000 N m s/rad
+#: velocity servo a stiffness of 4000 N m/rad, 0.5 s time constant (terrabench choice)
+HOLD_GAIN = 2.0
 MODE_CODE = {"WRM": 0, "WCM": 1, "RCLM": 2, "RCM": 3, "SWLM": 4, "DWLM": 5, "HALT": 6, "REVERSE": 7, "DONE": 8}
 
 
@@ -66,11 +65,6 @@ class Step:
         dist: WRM/WCM distance (m) (RCLM: ignored).
         waypoints: WRM path ((x, y), ...) in the start frame; empty = straight ahead.
         dy: WCM sideways displacement (m) (> 0 to the left).
-        dx: WCM forward displacement (m) of the same crab: the wheels steer to atan2(dy, dx) and the
-            body moves straight along it (0: sideways, +-90 deg).
-        wz: RCLM yaw rate (rad/s) commanded while the chassis moves (Task 15).
-        diff: differential steering: every steering angle held at 0, the sides' rim speeds differ
-            (the paper's 3-D differential-drive model, Task 15); False: all-wheel steering.
         clearance: RCLM target clearance (m).
         vz: RCLM chassis vertical speed (m/s).
         cycles: RCM cycles.  amp: RCM closing-angle swing per cycle (rad).
@@ -87,9 +81,6 @@ class Step:
     dist: float = 1.0
     waypoints: tuple = ()
     dy: float = 0.0
-    dx: float = 0.0
-    wz: float = 0.0
-    diff: bool = False
     clearance: float = 0.25
     vz: float = 0.0036
     cycles: int = 1
@@ -393,37 +384,18 @@ class RoverController:
     def _wcm(self, obs, st: Step):
         # phase 0: steer to +-90 in place; 1: roll sideways; 2: steer back to 0
         sgn = 1.0 if st.dy >= 0 else -1.0
-        if st.dx:
-            # a crab along a straight line at atan2(dy, dx), folded into (-90, 90] deg (spin sign)
-            a = math.atan2(st.dy, st.dx)
-            fold = a if abs(a) <= math.pi / 2 else a - math.copysign(math.pi, a)
-            goal, run = fold, math.hypot(st.dx, st.dy)
-        else:
-            goal, run = math.pi / 2 * 0.999, abs(st.dy)
         if self.phase == 0:
-            self.mu_goal = np.full(6, goal)
+            self.mu_goal = np.full(6, math.pi / 2 * 0.999)
             if np.max(np.abs(obs.mu - self.mu_goal)) < self.sup.steer_tol:
                 self.phase, self.y_start = 1, self._local(obs)[1]
             return np.zeros(5), False, True
         if self.phase == 1:
-            lx, ly, dyaw = self._local(obs)
-            if st.dx:
-                x0 = getattr(self, "x_crab", None)
-                if x0 is None or getattr(self, "_crab_k", None) != self.k:
-                    self._crab_k, self.x_crab = self.k, lx
-                    x0 = lx
-                done = (lx - x0) * math.cos(math.atan2(st.dy, st.dx)) + (ly - self.y_start) * math.sin(
-                    math.atan2(st.dy, st.dx)) >= run
-            else:
-                done = abs(ly - self.y_start) >= run
-            if done:
+            dy = self._local(obs)[1] - self.y_start
+            if abs(dy) >= abs(st.dy):
                 self.phase = 2
                 return np.zeros(5), False, True
-            wz = max(-0.01, min(0.01, -0.5 * dyaw))
-            if st.dx:
-                c, s_ = math.cos(math.atan2(st.dy, st.dx)), math.sin(math.atan2(st.dy, st.dx))
-                return np.array([st.v * c, st.v * s_, wz, 0.0, 0.0]), False, False
-            return np.array([0.0, sgn * st.v, wz, 0.0, 0.0]), False, False
+            dyaw = self._local(obs)[2]
+            return np.array([0.0, sgn * st.v, max(-0.01, min(0.01, -0.5 * dyaw)), 0.0, 0.0]), False, False
         self.mu_goal = np.zeros(6)
         if np.max(np.abs(obs.mu)) < self.sup.steer_tol:
             self.mu_goal = None
@@ -446,7 +418,7 @@ class RoverController:
         if np.max(np.abs(obs.delta - td)) < 0.004:
             return np.zeros(5), True
         rate = self._rate_for(obs, st.vz, td)
-        return np.array([st.v, 0.0, st.wz, rate[0], rate[1]]), False
+        return np.array([st.v, 0.0, 0.0, rate[0], rate[1]]), False
 
     def _rcm(self, obs, st: Step, x):
         """Inchworm: phase 0 lift (front wheels still), phase 1 lower (middle/rear still)."""
@@ -473,6 +445,27 @@ class RoverController:
             vx = -float(np.mean(J[2:6, 0] * np.repeat(rate, 2)))
             self._rolling = ([0, 1], self.sup.rcm_rim_ratio * st.vz * 2)
         return np.array([vx, 0.0, 0.0, rate[0], rate[1]]), False
+
+    def _hold_still(self, obs, rolling) -> np.ndarray:
+        """RCM: spin correction that keeps the still set's contact patches in place (docs/srwmr.md, RCM).
+
+        A wheel turns over the ground at its joint rate plus the pitch rate of the link carrying it:
+        chassis gyro + z x closing rate (front section), gyro - closing rate + bogie rate (rear section
+        and bogie). With its joint held the front wheels rolled forward ~27 mm per lift on the rocker's
+        rotation. The still wheels are commanded minus their link rate, plus a hold (gain HOLD_GAIN) on
+        their rotation over the ground since the phase began (the velocity servo's droop under load)."""
+        still = np.ones(6, bool)
+        still[list(rolling)] = False
+        key = tuple(np.flatnonzero(still))
+        if getattr(self, "_still_key", None) != key:
+            self._still_key, self._still_rot, self._zeta_prev = key, np.zeros(6), obs.zeta.copy()
+        side = np.array([0, 1, 0, 1, 0, 1])
+        zd = (obs.zeta - self._zeta_prev) / self.ts
+        self._zeta_prev = obs.zeta.copy()
+        link = obs.gyro[1] + np.where(np.arange(6) < 2, self.robot.z_ratio * obs.ddelta[side],
+                                      -obs.ddelta[side] + zd[side])
+        self._still_rot += (obs.spin + link) * self.ts
+        return np.where(still, -link - HOLD_GAIN * self._still_rot, 0.0)
 
     # ---------------------------------------------------------------- supervisor actions
     def _halt(self, obs, reason: str) -> Command:
@@ -533,9 +526,7 @@ class RoverController:
             mu_rate = step / ts
             self.mu_cmd = self.mu_cmd + step
             if steer_only:
-                # the contact of an offset wheel moves along its heading by -e mu_dot on the left and
-                # +e mu_dot on the right (offset outwards on both sides): rolled out, not scrubbed
-                spin = -_SIDE_SIGN * self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
+                spin = -self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
                 self._rim_cmd = spin * self.robot.wheel_radius
                 self.u_prev = np.zeros(5)
                 return Command(
@@ -549,18 +540,16 @@ class RoverController:
                     self.k,
                     self.clutch,
                 )
-        if self.plan[min(self.k, len(self.plan) - 1)].diff:
-            mu, spin = differential_kinematics(self.robot, u, self._susp)
-        else:
-            mu, spin = inverse_kinematics(
-                self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
-            )
+        mu, spin = inverse_kinematics(
+            self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
+        )
         rolling = getattr(self, "_rolling", None)
         if rolling is not None:
             # RCM: the rolling set turns at least at the paper's wheel/chassis speed ratio (it must slip
             # to pull: a wheel at the kinematic rim speed has zero slip and only rolling resistance)
             idx, v_rim = rolling
             spin[idx] = np.maximum(spin[idx], v_rim / self.robot.wheel_radius)
+            spin = spin + self._hold_still(obs, idx)
             self._rolling = None
         # a wheel whose steering is far from its target waits (no rolling against its heading)
         err = np.abs(mu - obs.mu)

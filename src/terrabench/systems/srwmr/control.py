@@ -38,11 +38,15 @@ from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
 from terrabench.systems.srwmr.kinematics import (
     delta_for_clearance,
+    differential_kinematics,
     geometry,
     inverse_kinematics,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
-from terrabench.systems.srwmr.robot import RobotConfig
+from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
+
+#: +1 for the left wheels (c1, c3, c5), -1 for the right ones
+_SIDE_SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
 
 #: ratios the supervisor halts on (index into constraints.NAMES): the stability margins of sec. 7.1,
 #: posture (MC#4, #5) and contact forces (MC#10, #11). MC#6-#9 are kept by the QP; MC#2 and #3 are
@@ -65,6 +69,11 @@ class Step:
         dist: WRM/WCM distance (m) (RCLM: ignored).
         waypoints: WRM path ((x, y), ...) in the start frame; empty = straight ahead.
         dy: WCM sideways displacement (m) (> 0 to the left).
+        dx: WCM forward displacement (m) of the same crab: the wheels steer to atan2(dy, dx) and the
+            body moves straight along it (0: sideways, +-90 deg).
+        wz: RCLM yaw rate (rad/s) commanded while the chassis moves (Task 15).
+        diff: differential steering: every steering angle held at 0, the sides' rim speeds differ
+            (the paper's 3-D differential-drive model, Task 15); False: all-wheel steering.
         clearance: RCLM target clearance (m).
         vz: RCLM chassis vertical speed (m/s).
         cycles: RCM cycles.  amp: RCM closing-angle swing per cycle (rad).
@@ -81,6 +90,9 @@ class Step:
     dist: float = 1.0
     waypoints: tuple = ()
     dy: float = 0.0
+    dx: float = 0.0
+    wz: float = 0.0
+    diff: bool = False
     clearance: float = 0.25
     vz: float = 0.0036
     cycles: int = 1
@@ -384,18 +396,37 @@ class RoverController:
     def _wcm(self, obs, st: Step):
         # phase 0: steer to +-90 in place; 1: roll sideways; 2: steer back to 0
         sgn = 1.0 if st.dy >= 0 else -1.0
+        if st.dx:
+            # a crab along a straight line at atan2(dy, dx), folded into (-90, 90] deg (spin sign)
+            a = math.atan2(st.dy, st.dx)
+            fold = a if abs(a) <= math.pi / 2 else a - math.copysign(math.pi, a)
+            goal, run = fold, math.hypot(st.dx, st.dy)
+        else:
+            goal, run = math.pi / 2 * 0.999, abs(st.dy)
         if self.phase == 0:
-            self.mu_goal = np.full(6, math.pi / 2 * 0.999)
+            self.mu_goal = np.full(6, goal)
             if np.max(np.abs(obs.mu - self.mu_goal)) < self.sup.steer_tol:
                 self.phase, self.y_start = 1, self._local(obs)[1]
             return np.zeros(5), False, True
         if self.phase == 1:
-            dy = self._local(obs)[1] - self.y_start
-            if abs(dy) >= abs(st.dy):
+            lx, ly, dyaw = self._local(obs)
+            if st.dx:
+                x0 = getattr(self, "x_crab", None)
+                if x0 is None or getattr(self, "_crab_k", None) != self.k:
+                    self._crab_k, self.x_crab = self.k, lx
+                    x0 = lx
+                done = (lx - x0) * math.cos(math.atan2(st.dy, st.dx)) + (ly - self.y_start) * math.sin(
+                    math.atan2(st.dy, st.dx)) >= run
+            else:
+                done = abs(ly - self.y_start) >= run
+            if done:
                 self.phase = 2
                 return np.zeros(5), False, True
-            dyaw = self._local(obs)[2]
-            return np.array([0.0, sgn * st.v, max(-0.01, min(0.01, -0.5 * dyaw)), 0.0, 0.0]), False, False
+            wz = max(-0.01, min(0.01, -0.5 * dyaw))
+            if st.dx:
+                c, s_ = math.cos(math.atan2(st.dy, st.dx)), math.sin(math.atan2(st.dy, st.dx))
+                return np.array([st.v * c, st.v * s_, wz, 0.0, 0.0]), False, False
+            return np.array([0.0, sgn * st.v, wz, 0.0, 0.0]), False, False
         self.mu_goal = np.zeros(6)
         if np.max(np.abs(obs.mu)) < self.sup.steer_tol:
             self.mu_goal = None
@@ -418,7 +449,7 @@ class RoverController:
         if np.max(np.abs(obs.delta - td)) < 0.004:
             return np.zeros(5), True
         rate = self._rate_for(obs, st.vz, td)
-        return np.array([st.v, 0.0, 0.0, rate[0], rate[1]]), False
+        return np.array([st.v, 0.0, st.wz, rate[0], rate[1]]), False
 
     def _rcm(self, obs, st: Step, x):
         """Inchworm: phase 0 lift (front wheels still), phase 1 lower (middle/rear still)."""
@@ -526,7 +557,9 @@ class RoverController:
             mu_rate = step / ts
             self.mu_cmd = self.mu_cmd + step
             if steer_only:
-                spin = -self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
+                # the contact of an offset wheel moves along its heading by -e mu_dot on the left and
+                # +e mu_dot on the right (offset outwards on both sides): rolled out, not scrubbed
+                spin = -_SIDE_SIGN * self.robot.wheel_offset * mu_rate / self.robot.wheel_radius
                 self._rim_cmd = spin * self.robot.wheel_radius
                 self.u_prev = np.zeros(5)
                 return Command(
@@ -540,9 +573,12 @@ class RoverController:
                     self.k,
                     self.clutch,
                 )
-        mu, spin = inverse_kinematics(
-            self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
-        )
+        if self.plan[min(self.k, len(self.plan) - 1)].diff:
+            mu, spin = differential_kinematics(self.robot, u, self._susp)
+        else:
+            mu, spin = inverse_kinematics(
+                self.robot, u, obs.delta, mu_prev=self.mu_cmd, lifted=lifted, geom=getattr(self, "_geom", None)
+            )
         rolling = getattr(self, "_rolling", None)
         if rolling is not None:
             # RCM: the rolling set turns at least at the paper's wheel/chassis speed ratio (it must slip

@@ -12,44 +12,49 @@ _SXL = [float(CORNER[k][0]) for k in ARMS]
 _SYL = [float(CORNER[k][1]) for k in ARMS]
 
 
-def _tip(sw: float, bm: float, el: float, sx: float, sy: float, cfg: RobotConfig) -> tuple[float, float, float]:
-    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0): tip centre of
-    the arm at corner (sx, sy) in {R} (m), on Python floats. With r = l1 cos(boom) + l2 cos(boom +
-    elbow): (sx mx + r sin(swing), sy (my + r cos(swing)), mz + 0.04 - l1 sin(boom) - l2 sin(boom +
-    elbow)), the boom axis 0.04 m above the mount."""
+def _tips(qs, sxs, sys_, cfg: RobotConfig) -> list[tuple[float, float, float]]:
+    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0), on Python
+    floats: tip centres in {R} (m) of arms with joints ``qs`` (swing, boom, elbow) at corners
+    (``sxs``, ``sys_``). With r = l1 cos(boom) + l2 cos(boom + elbow): (sx mx + r sin(swing),
+    sy (my + r cos(swing)), mz + 0.04 - l1 sin(boom) - l2 sin(boom + elbow)), the boom axis 0.04 m
+    above the mount."""
     mx, my, mz = cfg.arm_mount
-    l1, l2 = cfg.l1, cfg.l2
-    reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
-    return (sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
-            mz + 0.04 - l1 * math.sin(bm) - l2 * math.sin(bm + el))
+    l1, l2, z0 = cfg.l1, cfg.l2, mz + 0.04
+    out = []
+    for (sw, bm, el), sx, sy in zip(qs, sxs, sys_):
+        reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
+        out.append((sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
+                    z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)))
+    return out
 
 
 def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Tip of arm ``k`` in the robot frame {R} (m) for joints (swing, boom, elbow) (rad); the same
     numbers, bit for bit, as that arm's row of :func:`fk_all`."""
-    sw, bm, el = (float(v) for v in q)
     sx, sy = CORNER[k]
-    return np.array(_tip(sw, bm, el, float(sx), float(sy), cfg))
+    return np.array(_tips([[float(v) for v in q]], [float(sx)], [float(sy)], cfg)[0])
 
 
 def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
     """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four in one
-    call, on Python floats (numpy's per-call cost exceeds this arithmetic)."""
-    return np.array([_tip(sw, bm, el, sx, sy, cfg) for (sw, bm, el), sx, sy in zip(q_arm.tolist(), _SXL, _SYL)])
+    pass, on Python floats (numpy's per-call cost exceeds this arithmetic)."""
+    return np.array(_tips(q_arm.tolist(), _SXL, _SYL, cfg))
 
 
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Joints (swing, boom, elbow) (rad) putting arm ``k``'s tip at ``p`` in {R}; knee up.
 
     Out-of-reach points are pulled onto the reachable sphere (the arm stretches toward them).
+    On Python floats (the same IEEE arithmetic as numpy scalars, without their per-operation cost).
     """
+    px, py, pz = p.tolist() if isinstance(p, np.ndarray) else (float(v) for v in p)
     sx, sy = CORNER[k]
     mx, my, mz = cfg.arm_mount
-    dx = p[0] - sx * mx
-    dy = sy * p[1] - my
+    dx = px - sx * mx
+    dy = sy * py - my
     sw = math.atan2(dx, dy)
     r = math.hypot(dx, dy)
-    h = -(p[2] - mz - 0.04)  # depth below the boom axis
+    h = -(pz - mz - 0.04)  # depth below the boom axis
     l1, l2 = cfg.l1, cfg.l2
     d = min(math.hypot(r, h), l1 + l2 - 1e-6)
     c = (d * d - l1 * l1 - l2 * l2) / (2 * l1 * l2)

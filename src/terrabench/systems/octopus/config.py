@@ -24,7 +24,10 @@ class SceneConfig:
         terrace_tread: depth of the lower terrace (m).
         side_yaw_deg: approach angle of ``terrace2-side`` to the edges' normal (deg).
         block_height, block_length, block_width: the rough-road block (m).
-        block_gap: gap between the robot's right side (flipper) and the block (m).
+        block_gap: gap between the robot's right side and the block (m), from the outermost contact
+            surface: the right flipper pulley capsule's end, pulley_r beyond the flipper's side face
+            (the paper: "10 mm beside the robot"; measured from the side face the pulley overlapped
+            the block by 8 cm and caught its corner).
         start_distance: chassis centre behind the first edge at the start (m).
         jitter_offset: seeds > 0 shift the start sideways by up to this (m).
         jitter_yaw_deg: seeds > 0 turn the start by up to this (deg).
@@ -41,7 +44,8 @@ class SceneConfig:
     block_height: float = param(0.5, gt=0, unit="m", doc="rough-road block height")
     block_length: float = param(0.6, gt=0, unit="m", doc="rough-road block length")
     block_width: float = param(0.5, gt=0, unit="m", doc="rough-road block width")
-    block_gap: float = param(0.01, ge=0, unit="m", doc="gap between the robot's right flipper and the block")
+    block_gap: float = param(0.01, ge=0, unit="m",
+                             doc="gap between the robot's outermost contact surface (right flipper pulley) and block")
     start_distance: float = param(1.0, gt=0, unit="m", doc="chassis centre behind the first edge at the start")
     jitter_offset: float = param(0.03, ge=0, unit="m", doc="seeds > 0 shift the start sideways by up to this")
     jitter_yaw_deg: float = param(3.0, ge=0, le=180, unit="deg", doc="seeds > 0 turn the start by up to this")
@@ -60,7 +64,10 @@ class ProtocolConfig:
 
     Attributes:
         control_period: controller period (s) [P: 50 Hz].
-        timeout: simulated time limit (s).
+        timeout: simulated time limit (s). The paper gives none (and calls CLM slow); 90 s: CLM walks at
+            0.054 m/s (arms placed in 7.4 s), the block task needs 2.2 m of travel (>= 48 s) plus the
+            ride-over, a two-terrace task two climbs (~8 s each) and two walks; at 60 s those tasks
+            were cut off while still progressing (terraces 2/5 and 3/5, block 0/5 at 1.0-1.2 m).
         log_period: stored series period (s).
         check_period: slow check / divergence test period (s).
         turn_over: |roll| or |pitch| beyond this is ``turned_over`` (rad).
@@ -73,7 +80,7 @@ class ProtocolConfig:
     """
 
     control_period: float = param(0.02, gt=0, unit="s", doc="controller period")
-    timeout: float = param(60.0, gt=0, unit="s", doc="simulated time limit")
+    timeout: float = param(90.0, gt=0, unit="s", doc="simulated time limit")
     log_period: float = param(0.1, gt=0, unit="s", doc="stored series period")
     check_period: float = param(0.5, gt=0, unit="s", doc="slow check / divergence test period")
     turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")

@@ -172,7 +172,9 @@ def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
                       params)
     if instance == "block-500":
         r = cfg.robot
-        y_edge = -(r.flipper_y + r.flipper_w / 2) - sc.block_gap
+        # the gap is from the robot's outermost contact surface: the flipper pulley capsules'
+        # rounded ends reach pulley_r beyond the flipper's side face
+        y_edge = -(r.flipper_y + r.flipper_w / 2 + r.pulley_r) - sc.block_gap
         boxes = pieces.block(sc.block_height, sc.block_length, sc.block_width, x0=0.0,
                              y_center=y_edge - sc.block_width / 2)
         return Layout("block", boxes, sc.block_length, 0.0, 0.0, (-d, off), dyaw)

@@ -104,6 +104,12 @@ def test_lift_estimate_is_zero_level_and_follows_the_clutched_geometry():
         assert h == pytest.approx(lift_height(CFG, "front", -0.2, d0), rel=0.05)
     o.delta, o.rpy = np.array([d0, d0 + 0.2]), np.zeros(3)
     assert legged.lift_estimate(CFG, o, [3])[0] == pytest.approx(lift_height(CFG, "middle", 0.2, d0), rel=0.05)
+    # SWLM's reference is the opposite (unclutched, grounded) wheel: a level chassis with the right
+    # front axle 0.1 m above the left one reads 0.1 m
+    o.delta, o.zeta = np.array([d0, d0]), np.array([d0, d0])
+    z0 = legged.lift_estimate(CFG, o, [1], opposite=True)[0]
+    o.rpy = np.array([-np.arcsin(0.1 / CFG.track), 0.0, 0.0])  # right side up by 0.1 m over the track
+    assert legged.lift_estimate(CFG, o, [1], opposite=True)[0] - z0 == pytest.approx(0.1, rel=0.1)
     # the IMU attitude enters: a pitched chassis changes the axles' world heights
     o.delta, o.rpy = np.array([d0, d0]), np.array([0.0, 0.1, 0.0])
     z = legged.axle_heights(CFG, o)

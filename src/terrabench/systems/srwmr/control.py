@@ -216,7 +216,7 @@ class RoverController:
         self.step_start = (obs.xy.copy(), obs.yaw, obs.delta.copy(), obs.t)
         self.cycle = 0
         if st.mode in LEGGED:
-            self.legged = LeggedAction(self.robot, st, obs)
+            self.legged = LeggedAction(self.robot, st, obs, self.k)
         self._enter(obs.t, st.mode, reason)
 
     def _local(self, obs) -> tuple[float, float, float]:
@@ -515,7 +515,19 @@ class RoverController:
     def _reverse(self, obs) -> Command:
         """Run the suspension back to the step's start angles (wheels coordinated), then go on."""
         d0 = self.step_start[2]
-        if np.max(np.abs(obs.delta - d0)) < 0.004:
+        lg = self.legged
+        back = np.max(np.abs(obs.delta - d0)) < 0.004
+        if lg is not None:
+            # SWLM / DWLM: lower the wheel with the clutch engaged, release, restore (legged.py)
+            if not getattr(lg, "reversing", False):
+                lg.reverse(obs)
+                lg.reversing = True
+            u, back = lg.command(self, obs, self._local(obs)[0])
+            u = lg.level(self, obs, u)
+            self.clutch = lg.clutch
+            if not back:
+                return self._command(obs, u, lifted=lg.lifted)
+        if back:
             self.halt_t = None
             self.returning = False
             self.events.append(Transition(obs.t, "REVERSE", self.plan[self.k].mode, "back at the start state"))

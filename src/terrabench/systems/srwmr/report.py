@@ -28,6 +28,21 @@ PAPER = {
     ("t14-obstacle", "wrm"): "4634 mm, 401 s, 97 kJ",
     ("t14-obstacle", "wcm"): "3166 mm, 358 s, 77 kJ",
     ("t14-obstacle", "rclm"): "2800 mm, 249 s, 49 kJ",
+    ("t14-obstacle", "swlm"): "2800 mm, 859 s, 36 kJ (slowest, least energy)",
+    ("t6-bricks", "swlm"): "right wheels lifted in turn over 150 mm bricks; W_diff 826 (front up) / 1050 N (rear up)",
+    ("t7-stairs", "dwlm"): "pairs lifted in sequence up stairs; W_diff 1300 (front up) / 1189 N (rear up)",
+    ("t12-lift100", "swlm"): "s_b 0.01-0.24; EC 39.6 kJ",
+    ("t12-lift150", "swlm"): "s_b 0.01-0.24; EC 43.9 kJ; right rear PC 27.5",
+    ("t12-lift200", "swlm"): "s_b 0.01-0.24; EC 41.5 kJ; both rear PC 32.5",
+    ("t12-lift100", "dwlm"): "s_b -0.01-0.27; EC 42.5 kJ",
+    ("t12-lift150", "dwlm"): "s_b -0.01-0.27; EC 41.9 kJ",
+    ("t12-lift200", "dwlm"): "s_b -0.01-0.27; EC 41.8 kJ",
+    ("t13-front", "swlm"): "s_b -0.1-0.14; EC 41.6 kJ",
+    ("t13-middle", "swlm"): "s_b -0.16-0.1; EC 23.6 kJ",
+    ("t13-rear", "swlm"): "s_b -0.02-0.21; EC 20.1 kJ",
+    ("t13-front", "dwlm"): "s_b -0.01-0.21; EC 41.8 kJ",
+    ("t13-middle", "dwlm"): "s_b peak 0.32; EC 22.4 kJ",
+    ("t13-rear", "dwlm"): "s_b peak -0.1; EC 19.4 kJ",
 }
 T14_PAPER = {"wrm": (4634, 401, 97), "wcm": (3166, 358, 77), "rclm": (2800, 249, 49), "swlm": (2800, 859, 36)}
 OPERATOR = (
@@ -93,7 +108,7 @@ def t14_lines(rows) -> list[dict[str, Any]]:
                 "paper distance mm": pd,
                 "paper time s": pt,
                 "paper energy kJ": pe,
-                "note": "" if rs else "not run (SWLM not implemented)",
+                "note": "" if rs else "not run",
             }
         )
     return lines
@@ -234,6 +249,9 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
     from terrabench.systems.srwmr.report_tasks import add_sections
 
     add_sections(page, store, task_rows, slug, plt, _robot(rows))
+    from terrabench.systems.srwmr.legged import report_sections
+
+    report_sections(page, store, task_rows, slug, plt)  # SWLM / DWLM: T6, T7, T12, T13, T14
     page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
     qp = [
         {
@@ -294,7 +312,7 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
         ax[1].legend(fontsize="x-small", ncol=6)
         from terrabench.systems.srwmr.constraints import NAMES, thresholds
 
-        mode = {"wrm": "WRM", "wcm": "WCM", "rclm": "RCLM", "rcm": "RCM"}[meth]
+        mode = meth.upper()
         kap = thresholds(mode)
         for i, n in enumerate(NAMES):
             e = np.asarray(ts[f"eta_{n}"], float)

@@ -39,7 +39,8 @@ from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
 from terrabench.systems.srwmr.kinematics import (
     delta_for_clearance,
     differential_kinematics,
-    geometry,
+    geometry_pair,
+    hinge_rise,
     inverse_kinematics,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
@@ -166,6 +167,7 @@ class RoverController:
         self.plan, self.robot, self.sup, self.lim, self.sc, self.ts = list(plan), robot, sup, lim, sc, ts
         self.ik = SaturatedIK(robot, lim, sc, ts)
         self.events: list[Transition] = []
+        self._kappas: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.k = -1
         self.mode = "START"
         self.u_prev = np.zeros(5)
@@ -193,6 +195,13 @@ class RoverController:
         if self.legged_log or self.legged is not None:
             out["legged"] = self.legged_log + ([] if self.legged is None else self.legged.log)
         return out
+
+    def _kappa(self, mode: str) -> tuple[np.ndarray, np.ndarray]:
+        """The mode's threshold vector and the one its QP enforces (built once per mode)."""
+        k = self._kappas.get(mode)
+        if k is None:
+            k = self._kappas[mode] = (mc.thresholds(mode), mc.qp_thresholds(mode))
+        return k
 
     def _enter(self, t: float, mode: str, reason: str) -> None:
         if mode != self.mode:
@@ -236,9 +245,9 @@ class RoverController:
         ts = self.ts
         # the kinematics of this period, once: the suspension geometry (no steering offsets) for the
         # constraints, and the contact points with the steering offsets for the wheel commands
-        self._susp = geometry(self.robot, obs.delta)
+        self._susp, self._geom = geometry_pair(self.robot, obs.delta, self.mu_cmd)
         self._J = self._susp[1]
-        self._geom = geometry(self.robot, obs.delta, self.mu_cmd)
+        self._dz = hinge_rise(self._J)  # hinge rise per closing angle, for the QP, rates and ratios
         u_nom = np.zeros(5)
         steer_only = False
         lifted = ()
@@ -335,10 +344,10 @@ class RoverController:
                     self._next(obs, f"climbing efficiency {eff:.0%} < {self.sup.eff_min:.0%}")
                     return self._command(obs, np.zeros(5), hold=True)
         # --- constraint-saturated IK
-        kappa = mc.thresholds(st.mode)
+        kappa, kappa_qp = self._kappa(st.mode)
         J, P = self._J, self._susp[0]
         wb = np.array([P[0, 0] - P[2, 0], P[1, 0] - P[3, 0]])
-        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), mc.qp_thresholds(st.mode), J, wb)
+        u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa_qp, J, wb, dz=self._dz)
         if u is None:
             return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
         ratios = self._ratios(obs, u, J, wb)
@@ -349,7 +358,7 @@ class RoverController:
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
         over = np.where(MONITORED, ratios / kappa, 0.0)
-        if np.any(over >= 1.0):
+        if (over >= 1.0).any():
             i = int(np.argmax(over))
             return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
         return self._command(obs, u, steer_only=steer_only, lifted=lifted, ratios=ratios)
@@ -435,8 +444,7 @@ class RoverController:
 
     def _rate_for(self, obs, vz: float, target_delta: float) -> np.ndarray:
         """Closing rates (2,) lifting the chassis at ``vz`` towards ``target_delta``."""
-        J = self._J
-        dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
+        dz = self._dz
         err = target_delta - obs.delta
         rate = np.sign(err) * abs(vz) / np.maximum(dz, 1e-3)
         slow = np.minimum(1.0, np.abs(err) / 0.02)
@@ -539,24 +547,32 @@ class RoverController:
 
     # ---------------------------------------------------------------- output
     def _ratios(self, obs, u, J, wb) -> np.ndarray:
+        """The ratios eta of :data:`constraints.NAMES` this period: the expressions of the
+        ``constraints`` functions (``eta_roll``, ``eta_yaw``, ...) on plain floats."""
         r = np.zeros(len(mc.NAMES))
         sc = self.sc
-        dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
+        dz0, dz1 = float(self._dz[0]), float(self._dz[1])
         # MC2: while the suspension moves, the commanded rim speeds against the speeds the suspension
         # motion requires (the RCM rolling set runs above them on purpose: it shows here)
-        if np.any(np.abs(obs.ddelta) > 1e-4) and hasattr(self, "_rim_cmd"):
+        if (np.abs(obs.ddelta) > 1e-4).any() and hasattr(self, "_rim_cmd"):
             side = np.array([0, 1, 0, 1, 0, 1])
             v_kin = self.u_prev[0] + J[:, 0] * obs.ddelta[side]
             r[0] = mc.mc2_ratio(self._rim_cmd * np.cos(obs.mu), v_kin, sc)
-        r[1] = float(np.max((self.robot.front_len - wb) / self.robot.front_len))
-        r[2] = mc.eta_roll(dz * obs.delta, sc)
-        r[3] = mc.eta_yaw(wb, sc)
+        fl = self.robot.front_len
+        wbl, wbr = float(wb[0]), float(wb[1])
+        dl, dr = float(obs.delta[0]), float(obs.delta[1])
+        u0, u2, u3, u4 = (float(x) for x in (u[0], u[2], u[3], u[4]))
+        r[1] = max((fl - wbl) / fl, (fl - wbr) / fl)
+        r[2] = abs(dz0 * dl - dz1 * dr) / sc.dh  # eta_roll
+        r[3] = abs(wbl - wbr) / sc.dd  # eta_yaw
         half = self.robot.track / 2
-        v_side = np.array([u[0] - u[2] * half, u[0] + u[2] * half])
-        r[4] = mc.eta_rocker_vs_side(J[0:2, 0] * u[3:5], v_side, sc) if np.any(u[3:5]) else 0.0
-        r[5] = mc.eta_change(u[0], self.u_prev[0], sc.v_floor)
-        r[6] = mc.eta_change(u[2], self.u_prev[2], sc.w_floor)
-        r[7] = mc.eta_roll_rate(dz * u[3:5], sc)
+        if u3 or u4:  # eta_rocker_vs_side
+            j0, j1 = float(J[0, 0]), float(J[1, 0])
+            r[4] = max(abs(j0 * u3) / max(abs(u0 - u2 * half), sc.v_floor),
+                       abs(j1 * u4) / max(abs(u0 + u2 * half), sc.v_floor))
+        r[5] = mc.eta_change(u0, float(self.u_prev[0]), sc.v_floor)
+        r[6] = mc.eta_change(u2, float(self.u_prev[2]), sc.w_floor)
+        r[7] = abs(dz0 * u3 - dz1 * u4) / sc.vz9  # eta_roll_rate
         r[8], r[9] = mc.load_ratios(obs.load, sc)
         return r
 
@@ -601,7 +617,7 @@ class RoverController:
             self._rolling = None
         # a wheel whose steering is far from its target waits (no rolling against its heading)
         err = np.abs(mu - obs.mu)
-        if np.max(err) > 0.15 and np.any(np.abs(u[:3]) > 0):
+        if err.max() > 0.15 and (np.abs(u[:3]) > 0).any():
             spin = spin * 0.0
         self.mu_cmd = mu
         self.target = self.target + u[3:5] * ts

@@ -15,6 +15,7 @@ from :func:`terrabench.systems.srwmr.kinematics.inverse_kinematics`.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -62,7 +63,7 @@ class IKState:
     u_prev: np.ndarray
 
 
-def build_qp(
+def build_qp_reference(
     cfg: RobotConfig,
     st: IKState,
     kappa: np.ndarray,
@@ -72,7 +73,9 @@ def build_qp(
     J: np.ndarray | None = None,
     wb: np.ndarray | None = None,
 ):
-    """(G, h, lb, ub) of one control step. Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4, MC7 x2, MC8 x2, MC9 x2."""
+    """(G, h, lb, ub) of one control step, written row by row (the specification of
+    :func:`build_qp`, which must equal it bitwise; tested). Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4,
+    MC7 x2, MC8 x2, MC9 x2."""
     d = st.delta
     J = rocker_jacobian(cfg, d) if J is None else J
     wb0 = cfg.front_len  # nominal front-middle distance
@@ -123,6 +126,84 @@ def build_qp(
     return G, h, lb, ub
 
 
+#: flat indices into G (16 x 5) of the entries :func:`build_qp` writes, in its order
+_G_IDX = np.array([
+    0 * N_U + 3, 1 * N_U + 4,  # MC3
+    2 * N_U + 3, 2 * N_U + 4, 3 * N_U + 3, 3 * N_U + 4,  # MC4
+    4 * N_U + 3, 4 * N_U + 4, 5 * N_U + 3, 5 * N_U + 4,  # MC5
+    6 * N_U + 3, 7 * N_U + 3, 8 * N_U + 4, 9 * N_U + 4,  # MC6
+    10 * N_U + 0, 11 * N_U + 0, 12 * N_U + 2, 13 * N_U + 2,  # MC7, MC8
+    14 * N_U + 3, 14 * N_U + 4, 15 * N_U + 3, 15 * N_U + 4,  # MC9
+])
+
+
+def build_qp(
+    cfg: RobotConfig,
+    st: IKState,
+    kappa: np.ndarray,
+    sc: mc.Scales,
+    lim: IKLimits,
+    ts: float,
+    J: np.ndarray | None = None,
+    wb: np.ndarray | None = None,
+    dz: np.ndarray | None = None,
+):
+    """(G, h, lb, ub) of one control step: the linearised MC#3-#9 rows (see the module docstring
+    and :func:`build_qp_reference`, its row-by-row form, which this equals bitwise) from plain
+    floats, G and h filled by one indexed write each. ``J``, ``wb``, ``dz``: the rocker Jacobian,
+    front-middle wheelbases and hinge rise at ``st.delta`` if the caller already has them."""
+    d = st.delta
+    J = rocker_jacobian(cfg, d) if J is None else J
+    wb0 = cfg.front_len
+    wb = wheelbase_front_middle(cfg, d) if wb is None else wb
+    (j00, _, j02), (j10, _, j12), (j20, _, j22), (j30, _, j32), (_, _, j42), (_, _, j52) = J.tolist()
+    dwb0, dwb1 = j00 - j20, j10 - j30
+    if dz is None:
+        dz0, dz1 = -(j02 + j22 + j42) / 3, -(j12 + j32 + j52) / 3
+    else:
+        dz0, dz1 = float(dz[0]), float(dz[1])
+    d0, d1 = float(d[0]), float(d[1])
+    wbl, wbr = float(wb[0]), float(wb[1])
+    k3, k4, k5, k6, k7, k8, k9 = (float(kappa[i]) for i in range(1, 8))
+    big = 1e6
+    fin = math.isfinite
+    u0, u2 = float(st.u_prev[0]), float(st.u_prev[2])
+    half = cfg.track / 2
+    hl, hr = dz0 * d0, dz1 * d1
+    lim6l = k6 * max(abs(u0 - u2 * half), sc.v_floor) if fin(k6) else big
+    lim6r = k6 * max(abs(u0 + u2 * half), sc.v_floor) if fin(k6) else big
+    lim7 = k7 * max(abs(u0), sc.v_floor) if fin(k7) else big
+    lim8 = k8 * max(abs(u2), sc.w_floor) if fin(k8) else big
+    lim9 = k9 * sc.vz9 if fin(k9) else big
+    G = np.zeros((N_INEQ, N_U))
+    G.flat[_G_IDX] = (
+        -dwb0 * ts / wb0, -dwb1 * ts / wb0,
+        dz0 * ts, -dz1 * ts, -dz0 * ts, dz1 * ts,  # (sign x) * ts, signs exact
+        dwb0 * ts, -dwb1 * ts, -dwb0 * ts, dwb1 * ts,
+        j00, -j00, j10, -j10,
+        1.0, -1.0, 1.0, -1.0,
+        dz0, -dz1, -dz0, dz1,
+    )
+    h = np.array((
+        (k3 - (wb0 - wbl) / wb0) if fin(k3) else big,
+        (k3 - (wb0 - wbr) / wb0) if fin(k3) else big,
+        (k4 * sc.dh - (hl - hr)) if fin(k4) else big,
+        (k4 * sc.dh + (hl - hr)) if fin(k4) else big,
+        (k5 * sc.dd - (wbl - wbr)) if fin(k5) else big,
+        (k5 * sc.dd + (wbl - wbr)) if fin(k5) else big,
+        lim6l, lim6l, lim6r, lim6r,
+        u0 + lim7, -u0 + lim7, u2 + lim8, -u2 + lim8,
+        lim9, lim9,
+    ))
+    lo, hi = lim.delta_range
+    rl, rr = (lo - d0) / ts, (lo - d1) / ts
+    ql, qr = (hi - d0) / ts, (hi - d1) / ts
+    rm = lim.rate_max
+    lb = np.array((-lim.v_max, -lim.v_max, -lim.w_max, max(-rm, rl), max(-rm, rr)))
+    ub = np.array((lim.v_max, lim.v_max, lim.w_max, min(rm, ql), min(rm, qr)))
+    return G, h, lb, ub
+
+
 class SaturatedIK:
     """The per-step projection; keeps solve-time statistics (``times`` in seconds)."""
 
@@ -141,14 +222,15 @@ class SaturatedIK:
         J: np.ndarray | None = None,
         wb: np.ndarray | None = None,
         always: bool = False,
+        dz: np.ndarray | None = None,
     ) -> np.ndarray | None:
-        """u* or None when infeasible (``J``, ``wb``: the rocker Jacobian and wheelbases at
-        ``st.delta`` if already known). A nominal command inside the set is the QP's own optimum
+        """u* or None when infeasible (``J``, ``wb``, ``dz``: the rocker Jacobian, wheelbases and
+        hinge rise at ``st.delta`` if already known). A nominal command inside the set is the QP's own optimum
         and is returned without calling the solver (``always``: call it anyway, for timing)."""
-        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J, wb)
-        if np.any(lb > ub + 1e-12):
+        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J, wb, dz)
+        if (lb > ub + 1e-12).any():
             return None
-        if not always and np.all(G @ u_nom <= h + 1e-12) and np.all(u_nom >= lb) and np.all(u_nom <= ub):
+        if not always and (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all():
             self.inside += 1
             return np.asarray(u_nom, float).copy()
         q = -self.P @ u_nom

@@ -106,6 +106,47 @@ def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
     return P, J
 
 
+def geometry_pair(cfg: RobotConfig, delta, mu):
+    """``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass: the suspension geometry
+    without steering offsets (constraints) and with them (wheel commands), the section angles'
+    trigonometry shared. The same expressions as :func:`geometry`, so bitwise the same numbers."""
+    d0, d1 = float(delta[0]), float(delta[1])
+    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
+    th0, lpr, lpf = cfg.theta_s20, cfg.pillar_rear, cfg.pillar_front
+    e = cfg.wheel_offset
+    yl = cfg.steer_y
+    mu = [float(m) for m in mu]
+    P0 = np.empty((6, 3))
+    J0 = np.zeros((6, 3))
+    P = np.empty((6, 3))
+    J = np.zeros((6, 3))
+    for s, dl in ((0, d0), (1, d1)):
+        sg = 1.0 if s == 0 else -1.0
+        ang = th0 + dl
+        ca, sa = math.cos(ang), math.sin(ang)
+        px, pz = -b * ca, -b * sa
+        jx, jz = b * sa, -b * ca
+        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
+            m = mu[wi]
+            P0[wi] = (px + xb - sg * e * math.sin(0.0), sg * yl + sg * e * math.cos(0.0), pz - lpr)
+            P[wi] = (px + xb - sg * e * math.sin(m), sg * yl + sg * e * math.cos(m), pz - lpr)
+            J0[wi, 0] = J[wi, 0] = jx
+            J0[wi, 2] = J[wi, 2] = jz
+        cq, sq = math.cos(z * dl), math.sin(z * dl)
+        for PP, JJ, m in ((P0, J0, 0.0), (P, J, mu[s])):
+            xa = a - sg * e * math.sin(m)
+            PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * math.cos(m), -xa * sq - lpf * cq)
+            JJ[s, 0] = z * (-xa * sq - lpf * cq)
+            JJ[s, 2] = z * (-xa * cq + lpf * sq)
+    return (P0, J0), (P, J)
+
+
+def hinge_rise(J: np.ndarray) -> np.ndarray:
+    """(2,) rise of each side's hinge per unit closing angle (m/rad): minus the mean vertical
+    rate of the side's three axles, from the rocker Jacobian ``J`` (6, 3)."""
+    return np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])
+
+
 def contact_points(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=None) -> np.ndarray:
     """(6, 3) wheel-ground contact points in the body frame (axle - r z_b)."""
     p = axle_positions(cfg, delta, zeta, phi, mu)

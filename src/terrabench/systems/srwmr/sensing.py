@@ -69,35 +69,44 @@ class Observation:
         g = float(np.linalg.norm(model.opt.gravity))
         self._below = np.array([model.body_subtreemass[model.body(Names.pillar(c)).id] * g for c in WHEELS])
         self._root = jv(Names.ROOT)
+        self._q_idx = np.concatenate([self._rock_q, self._diff, self._bog, self._steer])
+        self._v_idx = np.concatenate([self._rock_v, self._spin])
+        self._ftz = self._ft + 2  # the z component of each F/T force
         self.rng = rng
         self.load_noise, self.speed_noise, self.pose_noise = load_noise, speed_noise, pose_noise
         self.refresh()
 
     def refresh(self) -> Observation:
-        d, rng = self._d, self.rng
+        """Read this instant's measurements: one gather of the joint positions and one of the rates,
+        one draw of the noise (the same numbers, in the same order, as a draw per sensor)."""
+        d = self._d
         s = d.sensordata
         self.t = float(d.time)
-        self.delta = -d.qpos[self._rock_q]
-        self.ddelta = -d.qvel[self._rock_v]
-        self.phi = d.qpos[self._diff].copy()
-        self.zeta = d.qpos[self._bog].copy()
-        self.mu = d.qpos[self._steer].copy()
-        self.spin = d.qvel[self._spin].copy()
-        self.tau = d.actuator_force[self._drive].copy()
+        qp = d.qpos[self._q_idx]  # rocker L R, differential L R, bogie L R, steering c1..c6
+        qv = d.qvel[self._v_idx]  # rocker L R, wheel spin c1..c6
+        self.delta = -qp[0:2]
+        self.phi, self.zeta, self.mu = qp[2:4], qp[4:6], qp[6:12]
+        self.ddelta = -qv[0:2]
+        self.spin = qv[2:8]
+        self.tau = d.actuator_force[self._drive]
         q = s[self._quat : self._quat + 4]
         self.rpy = np.array(rpy_from_quat(q))
         self.gyro = s[self._gyro : self._gyro + 3].copy()
         # F/T sensor: force the pillar transmits (site frame); the load is the component along
-        # the pillar (-z of the site frame carries the wheel), then rotated
-        f = s[self._ft[:, None] + np.arange(3)]
-        load = -f[:, 2] + self._below
-        self.load = load + rng.normal(0.0, self.load_noise, 6) if self.load_noise else load
-        ch = self._chassis
+        # the pillar (-z of the site frame carries the wheel)
+        load = -s[self._ftz] + self._below
+        if self.load_noise:
+            z = self.rng.standard_normal(10)
+            self.load = load + z[0:6] * self.load_noise
+            z = z[6:10]
+        else:
+            z = self.rng.standard_normal(4)
+            self.load = load
         yaw = self.rpy[2]
-        self.xy = d.xpos[ch, :2] + rng.normal(0.0, self.pose_noise, 2)
+        self.xy = d.xpos[self._chassis, :2] + z[0:2] * self.pose_noise
         self.yaw = yaw
         vw = d.qvel[self._root : self._root + 3]  # free joint: linear velocity of the origin, world frame
         c, sn = math.cos(yaw), math.sin(yaw)
         fwd, lat = c * vw[0] + sn * vw[1], -sn * vw[0] + c * vw[1]
-        self.v_body = np.array([fwd, lat]) + rng.normal(0.0, self.speed_noise, 2)
+        self.v_body = np.array([fwd, lat]) + z[2:4] * self.speed_noise
         return self

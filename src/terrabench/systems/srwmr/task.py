@@ -46,6 +46,11 @@ COLUMNS = (
     + tuple(f"eta_{n}" for n in mc.NAMES)
     + ("v_lat", "vy_cmd", "wz", "wz_cmd")
 )
+_NC = len(COLUMNS)
+_ETA = slice(COLUMNS.index("eta_MC2"), COLUMNS.index("eta_MC2") + len(mc.NAMES))
+_ETA_END = _ETA.stop  # v_lat, vy_cmd, wz, wz_cmd follow the ratios
+assert COLUMNS[12:14] == ("slip", "sinkage") and COLUMNS[20:22] == ("DP", "P_drive") and COLUMNS[22] == "DP_c1"
+assert COLUMNS[_ETA_END:] == ("v_lat", "vy_cmd", "wz", "wz_cmd")
 
 
 def trial_soil(name: str, cfg: SRWMRConfig, seed: int):
@@ -198,44 +203,38 @@ class SRWMRTask(TaskBase):
             self.clutch = apply_clutch(self.model, d, cl, self.clutch)  # SWLM / DWLM (legged.py)
         self.last_cmd = cmd
 
-    def row(self, obs: Observation, cmd) -> tuple[float, ...]:
+    def row(self, obs: Observation, cmd) -> np.ndarray:
+        """The stored columns (:data:`COLUMNS`) of this instant, filled slice by slice into one
+        array (the same numbers as a tuple of floats; no per-value conversion)."""
         d, t = self.data, self.soil_wheels.truth
+        out = np.empty(_NC)
         p = d.xpos[self.chassis]
         vw = d.qvel[0:3]
-        yaw = obs.rpy[2]
-        v = math.cos(yaw) * vw[0] + math.sin(yaw) * vw[1]
-        drive_p = float(np.abs(d.actuator_force[self.a_drive] * d.actuator_velocity[self.a_drive]).sum())
-        v_lat = -math.sin(yaw) * vw[0] + math.cos(yaw) * vw[1]
+        rpy = obs.rpy
+        yaw = rpy[2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        out[0:3] = p
+        out[3], out[4], out[5] = yaw, rpy[1], rpy[0]
+        out[6] = c * vw[0] + s * vw[1]
+        out[8:10] = obs.delta
+        slip, sink, dp = t["slip"], t["sinkage"], t["DP"]
+        out[12] = slip.sum() / slip.size  # = np.mean
+        out[13] = sink.sum() / sink.size
+        out[14:20] = t["Fn"]
+        out[20] = dp.sum()
+        a = self.a_drive
+        out[21] = np.abs(d.actuator_force[a] * d.actuator_velocity[a]).sum()
+        out[22:28] = dp
+        out[_ETA] = np.nan if cmd is None else cmd.ratios
+        out[_ETA_END] = -s * vw[0] + c * vw[1]
+        out[_ETA_END + 2] = d.qvel[5]
         if cmd is None:
-            vc, mode, step, ratios = np.nan, np.nan, np.nan, np.full(len(mc.NAMES), np.nan)
-            vyc = wzc = np.nan
+            out[7] = out[10] = out[11] = out[_ETA_END + 1] = out[_ETA_END + 3] = np.nan
         else:
-            vc, mode, ratios = float(cmd.u[0]), float(cmd.mode), cmd.ratios
-            vyc, wzc = float(cmd.u[1]), float(cmd.u[2])
-            step = float(getattr(cmd, "step", np.nan))
-        return (
-            (
-                float(p[0]),
-                float(p[1]),
-                float(p[2]),
-                yaw,
-                obs.rpy[1],
-                obs.rpy[0],
-                v,
-                vc,
-                obs.delta[0],
-                obs.delta[1],
-                mode,
-                step,
-                float(np.mean(t["slip"])),
-                float(np.mean(t["sinkage"])),
-            )
-            + tuple(float(w) for w in t["Fn"])
-            + (float(np.sum(t["DP"])), drive_p)
-            + tuple(float(x) for x in t["DP"])
-            + tuple(float(x) for x in ratios)
-            + (v_lat, vyc, float(d.qvel[5]), wzc)
-        )
+            u = cmd.u
+            out[7], out[10], out[11] = u[0], cmd.mode, getattr(cmd, "step", np.nan)
+            out[_ETA_END + 1], out[_ETA_END + 3] = u[1], u[2]
+        return out
 
     def power(self, obs) -> float:
         d = self.data

@@ -1,6 +1,6 @@
 """Cost per physics step: six soil wheels (SoilWheels hook) vs the same rover on rigid contact.
 
-    PYTHONPATH=src nice python benchmarks/soil_speed.py [--steps 3000] [--repeats 5]
+    PYTHONPATH=src nice python benchmarks/soil_speed.py [--steps 3000] [--repeats 5] [--no-footing]
 
 Both grounds (plane, heightfield) in one run. For each ground the rigid rover and the soil rover
 (every = 1, 2, 5, 10: forces held over k substeps) are timed alternately, ``repeats`` rounds of
@@ -39,14 +39,14 @@ def _rover(hfield: bool):
 
 
 class Case:
-    def __init__(self, every: int | None, hfield: bool, table: SoilTable):
+    def __init__(self, every: int | None, hfield: bool, table: SoilTable, footing: bool = True):
         self.every = every
         self.m, self.d = _rover(hfield)
         self.hook = None
         if every is not None:
             ground = hfield_ground(self.m, "ground") if hfield else flat_ground()
             self.hook = SoilWheels(self.m, self.d, [wheel_name(i) for i in range(6)], HIT_MRII_WHEEL, table, ground,
-                                   every=every)
+                                   every=every, footing=footing)
         self.d.ctrl[:] = 2.0
         self.step(1000)  # settle and get moving
         self.best = np.inf
@@ -72,6 +72,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--no-footing", action="store_true", help="SoilWheels(footing=False): the static footing off")
     args = ap.parse_args()
     table = SoilTable(MARS_SOFT, HIT_MRII_WHEEL)
     print(f"six wheels, {args.steps} steps x {args.repeats} alternating rounds, fastest round, CPU us per physics step")
@@ -79,7 +80,7 @@ def main() -> None:
     print("|---|---|" + "---|" * len(EVERY))
     details = []
     for hfield in (False, True):
-        cases = [Case(None, hfield, table)] + [Case(k, hfield, table) for k in EVERY]
+        cases = [Case(None, hfield, table)] + [Case(k, hfield, table, not args.no_footing) for k in EVERY]
         for _ in range(args.repeats):
             for c in cases:
                 c.time(args.steps)
@@ -93,7 +94,7 @@ def main() -> None:
                            f"sinkage={np.mean(t['sinkage']) * 1e3:.1f} mm")
     print("\n".join(details))
     for hfield in (False, True):
-        c = Case(1, hfield, table)
+        c = Case(1, hfield, table, not args.no_footing)
         hook, m, d = c.hook, c.m, c.d
         best = np.inf
         for _ in range(args.repeats):

@@ -25,6 +25,17 @@ Per wheel and per call (all wheels vectorised):
    (no creeping at rest), lateral ``Fy`` against ``v_y``. W and DP act at the axle (the
    Wong-Reece resultants are axle forces; T is the moment of the shear stresses about it), Fy
    at the rim bottom. Everything is written as force + moment about the body's CoM.
+6. Static footing (``footing=True``, the default): the steady-state DP, T and Fy are weighted by
+   ``g = min(|r omega| / v_eps, 1)`` (they need soil flowing under a turning rim) and the rest of
+   the tangential reaction, ``1 - g``, is the footing of the contact patch: a per-wheel state
+   ``m`` (mobilised fraction of the footing strength along f and l) obeying Dahl's law in the
+   patch's slip displacement, whose monotonic loading curve is Janosi-Hanamoto's
+   ``1 - exp(-j/K)``, renewed as the rim rolls one contact length; strength = the model's own
+   sliding forces at the current sinkage (locked-wheel drawbar resistance along f, sideways
+   drag along l); critical damping on its initial stiffness, clipped to the remaining strength.
+   A braked wheel under a push below the strength moves ``-K ln(1 - F/F_max)`` and holds; a
+   larger push slides at the strength. The look-up's slip fades with the speed below v_eps
+   (a creeping wheel carries its load as at slip 0). docs/soil.md, "Static footing".
 
 The rigid contact of the soil wheels is switched off (their geoms' contype and conaffinity
 set to 0 in ``model``) unless ``disable_contact=False``.

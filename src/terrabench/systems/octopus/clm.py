@@ -91,9 +91,11 @@ class CLMConfig:
         mount_pitch: the nose pitched up this much (IMU) with an up-step sensed (four tips down)
             also starts a climb: the crawlers are mounting an edge with the rear below it, as on the
             next terrace after a release; the lift then raises the rear first (pitch_cap).
-        max_resumes: releases that may go back to climbing when the nose rises (release_tilt);
-            0 (default): the release walks on and the walk's triggers (mount_pitch) start a fresh
-            climb with H_EST re-estimated from the four tips, per terrace.
+        max_resumes: releases of one climb that may go back to climbing when the nose rises
+            (release_tilt); after them the release walks on, and the walk's triggers (mount_pitch)
+            start a fresh climb with H_EST re-estimated from the four tips (the next terrace).
+            With 0 the 450 mm sweep step fails 2/3 (its four-tip case is past sigma2, so no walk
+            trigger), with 3 it climbs 3/3.
         climb_hold: while the lifted body drives, the supporting tips hold their footholds (their
             targets move back by the crawler travel, as in walking), so a front tip on a short tread
             does not roll into the next riser and block the climb.
@@ -163,7 +165,7 @@ class CLMConfig:
     edge_time: float = param(1.0, ge=0, unit="s", doc="the steep front flipper has stopped rising this long")
     mount_pitch: float = param(0.35, gt=0, le=math.pi / 2, unit="rad",
                                doc="the nose pitched up this much with an up-step sensed starts the climb")
-    max_resumes: int = param(0, ge=0, doc="releases that may resume the climb (nose rising) before walking on")
+    max_resumes: int = param(3, ge=0, doc="releases of one climb that may resume it (nose rising) before walking on")
     climb_hold: bool = param(True, doc="while climbing, supporting tips hold their footholds (arm moving)")
 
 
@@ -366,7 +368,7 @@ class CLMController:
         self.s_release = cfg.climb_distance
         self.heading = 0.0  # integrated gyro yaw rate (rad): the operator's move direction is 0
         self.release_pitch = 0.0
-        self.resumes = 0  # climbs resumed from this release (s)
+        self.resumes = 0  # releases of this climb that resumed it
         self.events: list[Transition] = []
 
     def info(self) -> dict:

@@ -363,8 +363,11 @@ def lift_spans(events: list[dict]) -> list[dict]:
     return [out[k] for k in sorted(out)]
 
 
-def _loads(ts):
-    W = np.array([np.asarray(ts[f"W_{c}"], float) for c in WHEELS]).T
+def _loads(ts, ft: bool = False):
+    """(t, W (n, 6)): the soil's normal forces, or (``ft``) the F/T wheel-load estimates the
+    supervisor reads (these include a wheel standing on a rigid step or brick)."""
+    pre = "Wft_" if ft and "Wft_c1" in ts else "W_"
+    W = np.array([np.asarray(ts[f"{pre}{c}"], float) for c in WHEELS]).T
     return np.asarray(ts["t"], float), W
 
 
@@ -377,7 +380,7 @@ def load_lines(rows, store) -> list[dict]:
         ts = store.timeseries(r["key"])
         if not ts or "t" not in ts:
             continue
-        t, W = _loads(ts)
+        t, W = _loads(ts, ft=True)
         wd = W.max(1) - W.min(1)
         fm = np.maximum(W.max(1) - W.mean(1), W.mean(1) - W.min(1))
         nom = (t > 1.0) & (t < 5.0)
@@ -439,8 +442,10 @@ def report_sections(page, store, rows, slug: str, plt) -> None:
     if not leg:
         return
     page.h2("Wheel-legged modes (SWLM / DWLM): lifts, wheel loads, slip and PC")
-    page.p("Lifted heights are the controller's estimate from the encoders and the IMU (the axle over the line "
-           "through its side's other two axles); wheel loads are the soil's normal forces (truth). W_diff = "
+    page.p("Lifted heights are the controller's estimate from the encoders and the IMU (SWLM: the axle over the "
+           "opposite wheel's; DWLM: over the line through its side's other two axles). T6/T7/T14 wheel loads are the "
+           "F/T estimates the supervisor reads (they include a wheel on a rigid step); the T12/T13 PC = DP / W uses "
+           "the soil's own forces. W_diff = "
            "W_max - W_min, W_fmr = max(W_max - mean, mean - W_min) over all six wheels (a lifted wheel counts "
            "as 0). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 W_fmr <= 700 N [S].")
     ll = load_lines(leg, store)
@@ -458,7 +463,7 @@ def report_sections(page, store, rows, slug: str, plt) -> None:
         ts = store.timeseries(r["key"])
         if not ts or "t" not in ts:
             continue
-        t, W = _loads(ts)
+        t, W = _loads(ts, ft=True)
         fig, ax = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
         for i, c in enumerate(WHEELS):
             ax[0].plot(t, W[:, i], lw=0.8, label=c)

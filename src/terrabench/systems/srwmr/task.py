@@ -43,6 +43,7 @@ COLUMNS = (
     + tuple(f"W_{c}" for c in WHEELS)
     + ("DP", "P_drive")
     + tuple(f"DP_{c}" for c in WHEELS)  # per-wheel drawbar pull (N): the PC = DP / W of Tasks 12, 13
+    + tuple(f"Wft_{c}" for c in WHEELS)  # F/T wheel-load estimates (N): also a wheel on a rigid step
     + tuple(f"eta_{n}" for n in mc.NAMES)
     + ("v_lat", "vy_cmd", "wz", "wz_cmd")
 )
@@ -225,6 +226,7 @@ class SRWMRTask(TaskBase):
         a = self.a_drive
         out[21] = np.abs(d.actuator_force[a] * d.actuator_velocity[a]).sum()
         out[22:28] = dp
+        out[28:34] = obs.load
         out[_ETA] = np.nan if cmd is None else cmd.ratios
         out[_ETA_END] = -s * vw[0] + c * vw[1]
         out[_ETA_END + 2] = d.qvel[5]

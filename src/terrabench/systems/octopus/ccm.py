@@ -6,8 +6,11 @@ approach with the front flippers raised and held; on contact (the flippers pushe
 once they have settled, or the pitch rising) press the front flippers down on the edge and push
 with the rear flippers; flatten once the nose is over (pitch falls back). A climb that stalls
 (no pitch gain for ``stall_time``) backs off and retries, up to ``retries`` times, as an operator
-would. The abort sits at or above the turned-over threshold, so the controller never hides the
-outcome. Arms as in the paper's CCM trials: rear arms lifted, front arms at their original pose.
+would. The abort fires when the pitch reaches the robot's static tip-back angle over its rearmost
+ground contact (geometry, the rear flipper encoders, the IMU pitch: :func:`tip_back_angle`): the
+COG is then over the pivot and the fall has begun, so the abort (stop, flatten) is recorded but
+cannot hide the outcome; ``abort_pitch`` is a plain pitch limit beside it. Arms as in the paper's
+CCM trials: rear arms lifted, front arms at their original pose.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import numpy as np
 from terrabench.config import param
 from terrabench.systems.base import Transition, events_info
 from terrabench.systems.octopus.clm import Command, flipper_rule, steer
+from terrabench.systems.octopus.robot import RobotConfig
 
 APPROACH, PRESS, PUSH, FLATTEN, ABORT, BACK_OFF = 0, 1, 2, 3, 4, 5
 MODE_NAMES = {APPROACH: "approach", PRESS: "press", PUSH: "push", FLATTEN: "flatten", ABORT: "abort",
@@ -48,8 +52,16 @@ class CCMConfig:
         push_pitch: pitch above which the rear flippers push (rad).
         flatten_pitch: while pushing, the rear flippers relax below this pitch (rad).
         level_time: level (|pitch| < 0.05 rad) this long while pushing = on the top: flatten (s).
-        abort_pitch: pitch at which the climb is aborted (rad); at or above the task's turned-over
-            threshold (1.2 rad) so the abort cannot prevent the outcome.
+        abort_pitch: pitch at which the climb is aborted whatever the geometry (rad); at the task's
+            turned-over threshold (1.2 rad), which ends the episode on the same tick, so at defaults
+            the abort comes from the tip-back condition (``tip_back``).
+        tip_back: abort once the nose-up pitch reaches the static tip-back angle over the rearmost
+            ground contact (:func:`tip_back_angle`); measured on step-400: the fall starts there
+            (pitch rate 0.2 -> 1 rad/s between 0.95 and 1.15 rad) and an abort at 0.7-1.0 rad still
+            turns over, one at 0.6 rad stops the robot (stuck).
+        cog_z: COG height above the main-track pulley axis in {R} (m): the chassis (56 kg at
+            0.06 m) with the arms (20 kg about the 0.15 m mounts) over ~94 kg; the paper treats
+            the COG as fixed and low in the chassis.
         stall_time: pressing or pushing this long without a new pitch peak (> 0.02 rad) is a stall (s).
         back_time: a stall backs off at -track_speed this long, then approaches again (s).
         retries: back-offs before the controller keeps pushing to the end.
@@ -82,6 +94,8 @@ class CCMConfig:
                                  doc="while pushing, the rear flippers relax below this pitch")
     level_time: float = param(1.0, ge=0, unit="s", doc="level this long while pushing = on the top")
     abort_pitch: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="pitch at which the climb is aborted")
+    tip_back: bool = param(True, doc="abort at the static tip-back angle over the rearmost ground contact")
+    cog_z: float = param(0.07, ge=0, unit="m", doc="COG height above the main-track pulley axis")
     stall_time: float = param(6.0, gt=0, unit="s",
                               doc="pressing or pushing this long without a new pitch peak is a stall")
     back_time: float = param(3.0, ge=0, unit="s", doc="a stall backs off this long, then approaches again")
@@ -97,11 +111,27 @@ class CCMConfig:
                                                    doc="(swing, boom, elbow) of the rear arms")
 
 
+def tip_back_angle(q_rear: float, pitch: float, robot: RobotConfig, cog_z: float) -> float:
+    """Nose-up pitch (rad) at which the COG (0, cog_z) in {R} is over the rearmost ground
+    contact: the rear flipper tip pulley at rear flipper angle ``q_rear`` or the rear track
+    pulley, whichever is lower in the world at ``pitch`` (it is the pivot).
+
+    A point (x, z) of {R} is at x cos p - z sin p along the ground; the COG is over the centre
+    (xc, zc) of a pulley (its lowest point is below the centre) when tan p = -xc / (cog_z - zc).
+    """
+    px, L = robot.pulley_x, robot.flipper_len
+    cands = ((-px - L * math.cos(q_rear), L * math.sin(q_rear), robot.flipper_tip_r), (-px, 0.0, robot.pulley_r))
+    sp, cp = math.sin(pitch), math.cos(pitch)
+    xc, zc, _ = min(cands, key=lambda c: c[0] * sp + c[1] * cp - c[2])
+    return math.atan2(-xc, cog_z - zc)
+
+
 class CCMController:
     """``obs -> Command`` for the crawler-only mode."""
 
-    def __init__(self, cfg: CCMConfig, dt: float = 0.02):
+    def __init__(self, cfg: CCMConfig, dt: float = 0.02, robot: RobotConfig | None = None):
         self.cfg, self.dt = cfg, dt
+        self.robot = robot or RobotConfig()
         self.cmd = Command()
         self.cmd.arm[:2] = cfg.stowed_arm
         self.cmd.arm[2:] = cfg.lifted_arm
@@ -167,8 +197,13 @@ class CCMController:
         p = obs.pitch
         if p > self.peak + 0.02:
             self.peak, self.peak_t = p, obs.t
-        if self.state != ABORT and abs(p) >= cfg.abort_pitch:
-            self._goto(obs.t, ABORT, f"|pitch| {abs(p):.2f} rad >= {cfg.abort_pitch}")
+        if self.state != ABORT:
+            if abs(p) >= cfg.abort_pitch:
+                self._goto(obs.t, ABORT, f"|pitch| {abs(p):.2f} rad >= {cfg.abort_pitch}")
+            elif cfg.tip_back and p > 0:
+                tb = tip_back_angle(0.5 * float(obs.q_flip[2] + obs.q_flip[3]), p, self.robot, cfg.cog_z)
+                if p >= tb:
+                    self._goto(obs.t, ABORT, f"pitch {p:.2f} rad >= tip-back angle {tb:.2f} rad over the rear contact")
         if self.state in (PRESS, PUSH) and obs.t - self.peak_t > cfg.stall_time and self.tries < cfg.retries:
             self.tries += 1
             self.back_until = obs.t + cfg.back_time

@@ -73,7 +73,7 @@ class OctopusSystem(System):
         if spec.method == "clm":
             return CLMController(cfg.clm, cfg.robot, cfg.protocol.control_period)
         if spec.method == "ccm":
-            return CCMController(cfg.ccm, cfg.protocol.control_period)
+            return CCMController(cfg.ccm, cfg.protocol.control_period, cfg.robot)
         raise ValueError(f"unknown octopus method {spec.method!r}; valid: {', '.join(METHODS)}")
 
     def env_adapter(self):

@@ -106,39 +106,49 @@ def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
     return P, J
 
 
+_CONSTS: dict[int, tuple] = {}
+
+
+def _consts(cfg: RobotConfig) -> tuple:
+    """The robot's lengths the geometry reads, once per (frozen) config (its derived properties
+    are computed on access)."""
+    hit = _CONSTS.get(id(cfg))
+    if hit is None or hit[0] is not cfg:
+        hit = _CONSTS[id(cfg)] = (cfg, cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio, cfg.theta_s20,
+                                  cfg.pillar_rear, cfg.pillar_front, cfg.wheel_offset, cfg.steer_y)
+    return hit[1:]
+
+
 def geometry_pair(cfg: RobotConfig, delta, mu):
     """``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass: the suspension geometry
     without steering offsets (constraints) and with them (wheel commands), the section angles'
-    trigonometry shared. The same expressions as :func:`geometry`, so bitwise the same numbers."""
+    trigonometry shared and each array built once. The same expressions as :func:`geometry`,
+    so bitwise the same numbers (tested)."""
     d0, d1 = float(delta[0]), float(delta[1])
-    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
-    th0, lpr, lpf = cfg.theta_s20, cfg.pillar_rear, cfg.pillar_front
-    e = cfg.wheel_offset
-    yl = cfg.steer_y
-    mu = [float(m) for m in mu]
-    P0 = np.empty((6, 3))
-    J0 = np.zeros((6, 3))
-    P = np.empty((6, 3))
-    J = np.zeros((6, 3))
+    b, a, bh, z, th0, lpr, lpf, e, yl = _consts(cfg)
+    mu = mu.tolist() if isinstance(mu, np.ndarray) else [float(m) for m in mu]
+    s0, c0 = math.sin(0.0), math.cos(0.0)
+    P0: list = [None] * 6
+    P: list = [None] * 6
+    J0: list = [None] * 6
+    J: list = [None] * 6
     for s, dl in ((0, d0), (1, d1)):
         sg = 1.0 if s == 0 else -1.0
         ang = th0 + dl
         ca, sa = math.cos(ang), math.sin(ang)
         px, pz = -b * ca, -b * sa
-        jx, jz = b * sa, -b * ca
+        jrow = (b * sa, 0.0, -b * ca)
         for wi, xb in ((2 + s, bh), (4 + s, -bh)):
             m = mu[wi]
-            P0[wi] = (px + xb - sg * e * math.sin(0.0), sg * yl + sg * e * math.cos(0.0), pz - lpr)
+            P0[wi] = (px + xb - sg * e * s0, sg * yl + sg * e * c0, pz - lpr)
             P[wi] = (px + xb - sg * e * math.sin(m), sg * yl + sg * e * math.cos(m), pz - lpr)
-            J0[wi, 0] = J[wi, 0] = jx
-            J0[wi, 2] = J[wi, 2] = jz
+            J0[wi] = J[wi] = jrow
         cq, sq = math.cos(z * dl), math.sin(z * dl)
-        for PP, JJ, m in ((P0, J0, 0.0), (P, J, mu[s])):
-            xa = a - sg * e * math.sin(m)
-            PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * math.cos(m), -xa * sq - lpf * cq)
-            JJ[s, 0] = z * (-xa * sq - lpf * cq)
-            JJ[s, 2] = z * (-xa * cq + lpf * sq)
-    return (P0, J0), (P, J)
+        for PP, JJ, sm, cm in ((P0, J0, s0, c0), (P, J, math.sin(mu[s]), math.cos(mu[s]))):
+            xa = a - sg * e * sm
+            PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * cm, -xa * sq - lpf * cq)
+            JJ[s] = (z * (-xa * sq - lpf * cq), 0.0, z * (-xa * cq + lpf * sq))
+    return (np.array(P0), np.array(J0)), (np.array(P), np.array(J))
 
 
 def hinge_rise(J: np.ndarray) -> np.ndarray:
@@ -254,6 +264,10 @@ def steer_and_spin(v: np.ndarray, r: float, mu_prev=None, v_min: float = 1e-6):
     mu_prev = np.zeros(len(v)) if mu_prev is None else np.asarray(mu_prev, float)
     speed = np.hypot(v[:, 0], v[:, 1])
     ang = np.arctan2(v[:, 1], v[:, 0])
+    if np.abs(ang).max() < math.pi / 2 - STEER_HYSTERESIS:
+        # no heading near +-90 deg: nothing folds and no other representation is admissible
+        still = speed < v_min
+        return np.where(still, mu_prev, ang), np.where(still, 0.0, speed / r)
     flip = np.abs(ang) > math.pi / 2 + 1e-9
     alt = ang - np.sign(ang) * math.pi  # the opposite heading, rolled backwards
     base = np.where(flip, alt, ang)

@@ -52,7 +52,7 @@ class SRWMRSystem(System):
                "(Qi et al.)")
     config_cls = SRWMRConfig
     groups = {
-        "tasks": "the paper's tasks a simulation repeats (T1, T3, T4, T5, T6, T7, T8, T11, T12, T13, T14)",
+        "tasks": "the paper's tasks a simulation repeats (T1-T15)",
         "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)",
     }
     default_group = "tasks"

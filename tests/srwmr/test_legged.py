@@ -97,12 +97,23 @@ def test_lift_estimate_is_zero_level_and_follows_the_clutched_geometry():
     assert np.allclose(legged.lift_estimate(CFG, o, [0, 1, 2, 3, 4, 5]), 0.0, atol=1e-9)
     # clutch engaged at d0 (bogie angle frozen), right hinge opened by 0.2 rad: the front axle rises
     # above the middle-rear line by the rigid-link amount (kinematics.lift_height), whatever the pitch
-    o.delta = np.array([d0, d0 - 0.2])
-    for pitch in (0.0, 0.08):
-        o.rpy = np.array([0.0, pitch, 0.0])
-        h = float(legged.lift_estimate(CFG, o, [1])[0])
-        assert h == pytest.approx(lift_height(CFG, "front", -0.2, d0), rel=0.05)
-    o.delta, o.rpy = np.array([d0, d0 + 0.2]), np.zeros(3)
+    # DWLM front pair: both hinges opened by 0.2 rad with the bogies locked, the chassis pitched so
+    # that the middle and rear axles stand level (on the ground): the front axles rise by the
+    # rigid-link amount over the middle ones (kinematics.lift_height)
+    o.delta = np.array([d0 - 0.2, d0 - 0.2])
+    lo, hi = -0.5, 0.5
+    for _ in range(60):
+        o.rpy = np.array([0.0, 0.5 * (lo + hi), 0.0])
+        z = legged.axle_heights(CFG, o)
+        lo, hi = (0.5 * (lo + hi), hi) if z[2] < z[4] else (lo, 0.5 * (lo + hi))
+    h = legged.lift_estimate(CFG, o, [0, 1])
+    assert h == pytest.approx([lift_height(CFG, "front", -0.2, d0)] * 2, rel=0.05)
+    o.delta, o.rpy = np.array([d0 + 0.2, d0 + 0.2]), np.zeros(3)
+    lo, hi = -0.5, 0.5
+    for _ in range(60):
+        o.rpy = np.array([0.0, 0.5 * (lo + hi), 0.0])
+        z = legged.axle_heights(CFG, o)
+        lo, hi = (0.5 * (lo + hi), hi) if z[0] < z[4] else (lo, 0.5 * (lo + hi))
     assert legged.lift_estimate(CFG, o, [3])[0] == pytest.approx(lift_height(CFG, "middle", 0.2, d0), rel=0.05)
     # SWLM's reference is the opposite (unclutched, grounded) wheel: a level chassis with the right
     # front axle 0.1 m above the left one reads 0.1 m

@@ -417,7 +417,8 @@ def legged_layout(instance: str, method: str, robot: RobotConfig, lift: str = ""
         plan = (Step(mode, v=0.025, lift=wheels, height=h, dist=T12_ROLL),)
         what = "Task 12: the front-right wheel / both front wheels" if instance in T12_HEIGHTS else \
             f"Task 13: the {pos} wheel(s)"
-        return Layout(flat, (), "loose", plan, None, 400.0,
+        # success: the plan ended with the chassis at least 0.8 m on (the 900 mm roll was run)
+        return Layout(flat, (), "loose", plan, T12_ROLL - 0.05, 400.0,
                       note=f"{mode} lift {'+'.join(wheels)} {1000 * h:.0f} mm, roll 900 mm at 25 mm/s, lower "
                            f"[S {what}]")
     raise ValueError(f"instance {instance!r} has no legged layout; valid: {', '.join(LEGGED_TASKS)}, t14-obstacle")

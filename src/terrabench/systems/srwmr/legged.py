@@ -112,18 +112,20 @@ def axle_heights(cfg: RobotConfig, obs) -> np.ndarray:
 def lift_estimate(cfg: RobotConfig, obs, idx, opposite: bool = False) -> np.ndarray:
     """Height (m) of each lifted axle ``idx`` above a reference, in the level frame: ``opposite``
     (SWLM) the same-position axle of the other, unclutched side, every wheel of which stays on the
-    ground; else (DWLM) the line through its own side's two other axles. Taken relative to the
-    value at the lift's start, either is the wheel's rise above where it stood (a step edge between
-    the reference axles drops out)."""
-    x, z = axle_side_plane(cfg, obs)
+    ground; else (DWLM) its own side's middle axle for a front or rear lift (the wheel a clutched
+    side pivots on; the far end may rise too) and the mean of the front and rear axles for a middle
+    lift. Taken relative to the value at the lift's start, either is the wheel's rise above where it
+    stood (a step edge drops out); the reference wheel's extra sinkage under the added load reads
+    as rise."""
+    z = axle_side_plane(cfg, obs)[1]
     out = []
     for i in idx:
         if opposite:
             out.append(z[i] - z[i ^ 1])  # c1 <-> c2, c3 <-> c4, c5 <-> c6
-            continue
-        j, k = [n for n in range(6) if WHEEL_SIDE[n] == WHEEL_SIDE[i] and n != i]
-        line = z[j] + (z[k] - z[j]) * (x[i] - x[j]) / (x[k] - x[j])
-        out.append(z[i] - line)
+        elif WHEEL_POS[i] == "middle":
+            out.append(z[i] - 0.5 * (z[i - 2] + z[i + 2]))
+        else:
+            out.append(z[i] - z[2 + (i % 2)])
     return np.array(out)
 
 
@@ -165,7 +167,6 @@ class LeggedAction:
         self.best = (-1.0, obs.t)
         self.touch_t = None
         self.rate = LIFT_SPEED
-        self.light_t = None
 
     @property
     def name(self) -> str:
@@ -226,13 +227,11 @@ class LeggedAction:
             sign = LIFT_SIGN[self.pos]
             at_end = any((sign < 0 and obs.delta[s] <= lo + 0.01) or (sign > 0 and obs.delta[s] >= hi - 0.01)
                          for s in self.sides)
-            # DWLM: the line of reference axles holds only while they carry load (a side balancing on
-            # its middle wheel tips the other end up, and the line with it)
+            # DWLM: a side balancing on its middle wheel tips its other end up as well: the lift stops
             refs = [j for j in range(6) if j not in self.idx and WHEEL_POS[j] != self.pos]
             w_nom = robot.total_mass * 9.81 / 6
             light = st.mode == "DWLM" and float(np.min(np.asarray(obs.load)[refs])) < REF_SHARE * w_nom
-            self.light_t = (self.light_t if self.light_t is not None else obs.t) if light else None
-            unloaded = self.light_t is not None and obs.t - self.light_t >= SETTLE_S
+            unloaded = light  # at once: past that moment the reference line tips with the lifted end
             if at_end or unloaded or obs.t - self.best[1] > 20.0:
                 why = ("rocker range end" if at_end else
                        "the reference wheels unloaded: the sides balance on one wheel each" if unloaded else

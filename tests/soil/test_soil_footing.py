@@ -124,11 +124,11 @@ def test_a_push_above_the_strength_slides_at_the_steady_state_locked_wheel_force
 
 def test_the_footing_follows_janosi_hanamoto_in_the_patch_displacement_and_renews_as_the_wheel_rolls():
     # the state law itself (the kernel's inlined function), at rest (fade 0) and rolling
-    foot = np.zeros((1, 2))
+    foot = np.zeros((1, 3))
     caps = np.array([[300.0, 200.0, 0.5], [300.0, 200.0, 0.5]])
     tp = np.array([0.15, 1 / 0.15, 1.0, 1.0])
     K, dt, v = 0.02, 0.0005, 0.001
-    fp = np.array([1.0, dt, K, K, 0.0, 0.0])
+    fp = np.array([1.0, dt, K, K, 0.0, 0.0, 0.004])
     fs = []
     for _ in range(2000):  # the patch pushed forward 1 mm at 1 mm/s, nothing rolls
         fx, fy, _ = _footing(0, 0.05, 0.0, v, 0.0, 0.0, 0.15, foot, caps, tp, fp)
@@ -170,3 +170,23 @@ def test_a_free_wheel_still_rolls_and_a_rolling_rover_feels_the_steady_state_for
     assert res[0][0] == pytest.approx(res[1][0], rel=0.01)
     np.testing.assert_allclose(res[0][1], res[1][1], atol=0.01)
     np.testing.assert_allclose(res[0][2], res[1][2], atol=0.01 * LOAD)
+
+
+def test_pushed_back_into_its_own_rut_the_footing_keeps_only_its_shear_part():
+    # a wheel that travelled forward has its rut behind it: pushed backwards there is no fresh soil
+    # to compact or plough, so the strength is the shear share (caps[:, 2]) of the full strength
+    caps = np.array([[400.0, 200.0, 0.55], [400.0, 200.0, 0.55]])
+    tp = np.array([0.15, 1 / 0.15, 1.0, 1.0])
+    fp = np.array([1.0, 0.0005, 0.02, 0.02, 0.0, 0.0, 0.004])
+    for direction, strength, at_rim in ((+1.0, 400.0, 0.55), (-1.0, 0.55 * 400.0, 1.0)):
+        foot = np.zeros((1, 3))
+        _footing(0, 0.05, 0.01, 0.01, 0.0, 1.0, 0.15, foot, caps, tp, fp)  # rolled forward
+        assert foot[0, 2] == 1.0
+        for _ in range(4000):  # braked, the patch slid 0.1 m (5 K) forward or backward
+            fx, _, phs = _footing(0, 0.05, 0.0, direction * 0.05, 0.0, 0.0, 0.15, foot, caps, tp, fp)
+        assert -fx * direction == pytest.approx(strength, rel=0.01)
+        assert foot[0, 2] == 1.0  # sliding braked does not move the rut
+        assert phs == at_rim
+    foot = np.zeros((1, 3))
+    _footing(0, 0.0, 0.0, 0.01, 0.0, 0.0, 0.15, foot, caps, tp, fp)  # out of the soil: fresh soil again
+    assert foot[0, 2] == 0.0

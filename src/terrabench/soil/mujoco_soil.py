@@ -139,12 +139,17 @@ def _footing(i, sink, rw, vf, vl, g, r, foot, caps, tp, fp):
     (|m| <= 1). Dahl's law in the patch displacement, whose monotonic loading curve is
     Janosi-Hanamoto's ``1 - exp(-j/K)``, plus renewal of the soil under the patch as the rim
     rolls one contact length: ``dm/dt = u - (|u| + |r omega| / L_c) m``, ``u = (v_sx/K, v_sy/K_y)``,
-    integrated exactly over the step for constant velocities."""
+    integrated exactly over the step for constant velocities. ``foot[i, 2]``: the side of the
+    wheel's own rut (+1: the wheel last rolled along +f with its rim faster than v_eps, so the rut lies behind;
+    0: none, fresh soil on both sides); pushed into its rut the footing keeps only its shear part."""
     dt, K, Ky, cex, ct = fp[1], fp[2], fp[3], fp[4], fp[5]
     if sink <= 0.0:
         foot[i, 0] = 0.0
         foot[i, 1] = 0.0
+        foot[i, 2] = 0.0  # lifted: it lands on fresh soil
         return 0.0, 0.0, 0.0
+    if abs(rw) > fp[6] and rw * vf > 0.0:  # rolling: the rut forms behind the travel
+        foot[i, 2] = 1.0 if vf > 0.0 else -1.0
     vsx = vf - rw  # the contact patch against the soil (the rim bottom's velocity)
     ux, uy = vsx / K, vl / Ky
     un = math.sqrt(ux * ux + uy * uy)
@@ -169,6 +174,10 @@ def _footing(i, sink, rw, vf, vl, g, r, foot, caps, tp, fp):
     capx = (1.0 - t) * caps[k, 0] + t * caps[k + 1, 0]
     capy = (1.0 - t) * caps[k, 1] + t * caps[k + 1, 1]
     phs = (1.0 - t) * caps[k, 2] + t * caps[k + 1, 2]
+    if mx * foot[i, 2] < 0.0:
+        # pushed back into its own rut: no fresh soil to compact or plough, the shear part only
+        capx = phs * capx
+        phs = 1.0
     # damping of the elastic footing, clipped so that the reaction stays within the strength
     # (gone once the soil yields, |m| -> 1: a sliding wheel meets the strength itself)
     rem = max(1.0 - math.sqrt(mx * mx + my * my), 0.0)
@@ -354,7 +363,7 @@ class SoilWheels:
         self.damping = float(damping)
         self.footing = bool(footing)
         #: footing state per wheel: mobilised fraction of the footing strength along f and l
-        self.foot = np.zeros((self.n, 2))
+        self.foot = np.zeros((self.n, 3))
         t = self.table
         j0 = int(np.argmin(np.abs(t.s)))
         # footing strength against z: the locked wheel's drawbar resistance (shear, compaction, front
@@ -369,7 +378,7 @@ class SoilWheels:
         k_t = float(np.interp(z0, t.z, self._caps[:, 0])) / self.soil.K  # initial footing stiffness (N/m)
         self.footing_damping = 2.0 * damping_ratio * np.sqrt(max(k_t, 0.0) * nominal_load / g)
         self._fp = np.array([1.0 if self.footing else 0.0, float(model.opt.timestep) * self.every, self.soil.K,
-                             self.soil.Ky, self.soil.c_exit, self.footing_damping])
+                             self.soil.Ky, self.soil.c_exit, self.footing_damping, self.v_eps])
         if disable_contact:
             disable_rigid_contact(model, self.bodies)
         self.refresh = bool(refresh)

@@ -105,3 +105,10 @@ def test_clm_rides_over_the_block():
     rf_landed = [e[3] for e in ev if e[1] == "RF.transfer" and e[2] == "RF.support"]
     i = rf_landed.index("landed: on-top")
     assert "landed: reached" in rf_landed[i:]
+
+
+@pytest.mark.slow
+def test_clm_does_not_walk_itself_over_a_riser_beyond_its_reach():
+    """550 mm (beyond the arms): without the walk's pitch guard CLM turned over here (77.8 s)."""
+    r = _run("clm", "sweep-h550")
+    assert r.status != "turned_over" and abs(r.metrics["max_pitch"]) < 1.0

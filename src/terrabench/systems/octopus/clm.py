@@ -96,6 +96,10 @@ class CLMConfig:
             start a fresh climb with H_EST re-estimated from the four tips (the next terrace).
             With 0 the 450 mm sweep step fails 2/3 (its four-tip case is past sigma2, so no walk
             trigger), with 3 it climbs 3/3.
+        guard_pitch: the paper's real-time stability monitor in the walk: beyond this nose-up
+            pitch (below the ~0.93 rad static tip-back angle on the rear flippers) the crawlers back
+            off; without it CLM walked its front arms up the 500-550 mm risers it cannot climb and
+            turned over (3 of 6 sweep trials, after 60 s).
         climb_hold: while the lifted body drives, the supporting tips hold their footholds (their
             targets move back by the crawler travel, as in walking), so a front tip on a short tread
             does not roll into the next riser and block the climb.
@@ -166,6 +170,8 @@ class CLMConfig:
     mount_pitch: float = param(0.35, gt=0, le=math.pi / 2, unit="rad",
                                doc="the nose pitched up this much with an up-step sensed starts the climb")
     max_resumes: int = param(3, ge=0, doc="releases of one climb that may resume it (nose rising) before walking on")
+    guard_pitch: float = param(0.9, gt=0, le=math.pi / 2, unit="rad",
+                               doc="walking with the nose up beyond this, the crawlers back off")
     climb_hold: bool = param(True, doc="while climbing, supporting tips hold their footholds (arm moving)")
 
 
@@ -355,6 +361,7 @@ class CLMController:
         self.out_of_reach = False
         self.out_arm = ""  # the last arm whose foothold left its range (diagnostics)
         self.flip_prev, self.flip_still = 0.0, 0.0  # the front flipper angle and how long it has held (s)
+        self.guarding = False  # the walk's pitch guard is backing the crawlers off
         self.caster = np.zeros(4, bool)  # landed beyond its range: rolls with the body until its turn
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
         self.next_gait = 0
@@ -642,6 +649,14 @@ class CLMController:
         if self.state == WALK:
             # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
             v = 0.0 if self.out_of_reach else cfg.track_speed
+            if obs.pitch > cfg.guard_pitch:
+                # the paper's stability monitor: nose up toward the tip-back angle (~0.93 rad on the
+                # rear flippers, ccm.tip_back_angle): the crawlers back off instead of pushing on
+                v = -cfg.track_speed
+                if not self.guarding:
+                    self.events.append(Transition(obs.t, "walk", "walk", f"pitch {obs.pitch:.2f} rad > "
+                                                  f"{cfg.guard_pitch}: crawlers back off"))
+            self.guarding = obs.pitch > cfg.guard_pitch
             c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
             self.out_of_reach = self._support(obs, v)
             for f in (0, 1):

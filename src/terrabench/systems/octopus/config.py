@@ -67,7 +67,7 @@ class ProtocolConfig:
         timeout: simulated time limit (s). The paper gives none (and calls CLM slow); 90 s: CLM walks at
             0.054 m/s (arms placed in 7.4 s), the block task needs 2.2 m of travel (>= 48 s) plus the
             ride-over, a two-terrace task two climbs (~8 s each) and two walks; at 60 s those tasks
-            were cut off while still progressing (terraces 2/5 and 3/5, block 0/5 at 1.0-1.2 m).
+            were cut off while still progressing (terraces 1/5 and 1/5, block 0/5 at 1.0-1.2 m).
         log_period: stored series period (s).
         check_period: slow check / divergence test period (s).
         turn_over: |roll| or |pitch| beyond this is ``turned_over`` (rad).

@@ -4,8 +4,16 @@ import numpy as np
 
 from terrabench.sim.episode import Episode
 from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.ik import IKLimits, IKState, build_qp, build_qp_reference
-from terrabench.systems.srwmr.kinematics import geometry, geometry_pair, hinge_rise
+from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK, _qp_kernel, build_qp, build_qp_reference
+from terrabench.systems.srwmr.kinematics import (
+    geometry,
+    geometry_pair,
+    geometry_pair_reference,
+    hinge_rise,
+    inverse_kinematics,
+    inverse_kinematics_reference,
+    period_geometry,
+)
 from terrabench.systems.srwmr.robot import RobotConfig
 from terrabench.systems.srwmr.scenarios import SYSTEM
 from terrabench.systems.srwmr.task import COLUMNS
@@ -20,6 +28,71 @@ def test_geometry_pair_is_geometry_twice_bitwise():
         (p0, j0), (p, j) = geometry_pair(CFG, d, mu)
         (q0, k0), (q, k) = geometry(CFG, d), geometry(CFG, d, mu)
         assert all(np.array_equal(a, b) for a, b in ((p0, q0), (j0, k0), (p, q), (j, k)))
+
+
+def test_compiled_period_geometry_equals_the_python_form_bitwise():
+    rng = np.random.default_rng(11)
+    for _ in range(500):
+        d, mu = rng.uniform(-0.45, 1.15, 2), rng.uniform(-1.75, 1.75, 6)
+        (p0, j0), (p, j), dz, wb = period_geometry(CFG, d, mu)
+        (q0, k0), (q, k) = geometry_pair_reference(CFG, d, mu)
+        assert all(np.array_equal(a, b) for a, b in ((p0, q0), (j0, k0), (p, q), (j, k)))
+        assert np.array_equal(dz, hinge_rise(k0))
+        assert np.array_equal(wb, [q0[0, 0] - q0[2, 0], q0[1, 0] - q0[3, 0]])
+
+
+def test_compiled_inverse_kinematics_equals_the_numpy_form_bitwise():
+    """Also across +-90 deg (the fold and its hysteresis), still wheels and lifted ones."""
+    rng = np.random.default_rng(12)
+    n_fold = 0
+    for i in range(2000):
+        d, mu = rng.uniform(-0.45, 1.15, 2), rng.uniform(-1.75, 1.75, 6)
+        geom = period_geometry(CFG, d, mu)[1]
+        u = rng.uniform(-0.05, 0.05, 5) * (rng.uniform(size=5) < 0.7)
+        mu_prev = mu if i % 2 else rng.uniform(-0.3, 0.3, 6)
+        lifted = (i % 6,) if i % 5 == 0 else ()
+        ref = inverse_kinematics_reference(CFG, u, d, mu_prev=mu_prev, lifted=lifted, geom=geom)
+        fast = inverse_kinematics(CFG, u, d, mu_prev=mu_prev, lifted=lifted, geom=geom)
+        assert np.array_equal(ref[0], fast[0]) and np.array_equal(ref[1], fast[1])
+        n_fold += bool((np.abs(ref[0]) > np.pi / 2).any())
+    assert n_fold > 50  # the fold branch was exercised
+
+
+def test_compiled_qp_rows_equal_build_qp_bitwise_and_place_u_nom_alike():
+    rng = np.random.default_rng(13)
+    lim, sc = IKLimits(), mc.Scales()
+    ik = SaturatedIK(CFG, lim, sc, 0.01)
+    seen = set()
+    for i in range(1500):
+        d, u = rng.uniform(-0.5, 1.2, 2), rng.uniform(-0.05, 0.05, 5)
+        u_nom = u + rng.normal(0.0, 0.002, 5) * (rng.uniform(size=5) < 0.5)
+        mode = mc.MODES[i % len(mc.MODES)]
+        kappa = mc.qp_thresholds(mode) if i % 3 == 0 else mc.thresholds(mode)
+        (_, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
+        ref = build_qp(CFG, IKState(d, u), kappa, sc, lim, 0.01, J, wb, dz)
+        *fast, where = _qp_kernel(J, d[0], d[1], wb[0], wb[1], dz[0], dz[1], kappa, u[0], u[2], u_nom, *ik._consts)
+        assert all(np.array_equal(a, b) for a, b in zip(ref, fast))
+        G, h, lb, ub = ref
+        inside = (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all()
+        assert where == (0 if (lb > ub + 1e-12).any() else 1 if inside else 2)
+        seen.add(where)
+    assert seen >= {1, 2}
+
+
+def test_compiled_ratios_equal_the_numpy_form_bitwise():
+    rng = np.random.default_rng(14)
+    sc = mc.Scales()
+    for i in range(2000):
+        d, mu = rng.uniform(-0.45, 1.15, 2), rng.uniform(-1.6, 1.6, 6)
+        (_, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
+        u = rng.uniform(-0.05, 0.05, 5) * (rng.uniform(size=5) < 0.6)
+        u_prev = rng.uniform(-0.05, 0.05, 5) * (rng.uniform(size=5) < 0.6)
+        dd = rng.uniform(-1e-3, 1e-3, 2) * (rng.uniform(size=2) < 0.7)
+        load, rim = rng.uniform(0.0, 900.0, 6), (rng.uniform(-0.05, 0.05, 6) if i % 4 else None)
+        args = (CFG, sc, u, u_prev, J, dz, wb, d, dd, mu, load, rim)
+        fast, ref = mc.period_ratios(*args), mc.period_ratios_reference(*args)
+        assert np.array_equal(fast, ref), (fast - ref)
+        assert (ref[0] > 0) == (rim is not None and bool((np.abs(dd) > 1e-4).any()))
 
 
 def test_build_qp_equals_the_row_by_row_reference_bitwise():

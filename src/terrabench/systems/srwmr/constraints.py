@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from terrabench.config import check_fields, param
@@ -174,3 +175,78 @@ def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
     """MC#2: largest mismatch between the commanded rim speeds and the speeds the suspension
     motion requires (m/s), over v2 (a feasibility check of the command, logged)."""
     return float(np.max(np.abs(np.asarray(v_cmd) - np.asarray(v_kin)))) / sc.v2
+
+
+@numba.njit(cache=True)
+def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, load, fl, half,
+                   v2, dh, dd, v_floor, w_floor, vz9, w_diff_scale, w_fmr_scale):
+    """The ratios of :data:`NAMES` of one control period, compiled: the expressions of
+    :func:`mc2_ratio`, :func:`eta_roll`, :func:`eta_yaw`, :func:`eta_change`,
+    :func:`load_ratios` ... in the same order on scalars (bitwise :func:`period_ratios_reference`;
+    tested)."""
+    r = np.zeros(10)
+    u0, u2, u3, u4 = u[0], u[2], u[3], u[4]
+    if mc2_on:
+        m = 0.0
+        for i in range(6):
+            v_kin = u_prev[0] + J[i, 0] * ddelta[i % 2]
+            m = max(m, abs(rim_cmd[i] * math.cos(mu[i]) - v_kin))
+        r[0] = m / v2
+    wbl, wbr = wb[0], wb[1]
+    r[1] = max((fl - wbl) / fl, (fl - wbr) / fl)
+    r[2] = abs(dz[0] * delta[0] - dz[1] * delta[1]) / dh
+    r[3] = abs(wbl - wbr) / dd
+    if u3 != 0.0 or u4 != 0.0:
+        r[4] = max(abs(J[0, 0] * u3) / max(abs(u0 - u2 * half), v_floor),
+                   abs(J[1, 0] * u4) / max(abs(u0 + u2 * half), v_floor))
+    r[5] = abs(u0 - u_prev[0]) / max(abs(u_prev[0]), v_floor)
+    r[6] = abs(u2 - u_prev[2]) / max(abs(u_prev[2]), w_floor)
+    r[7] = abs(dz[0] * u3 - dz[1] * u4) / vz9
+    lo = hi = load[0]
+    total = 0.0
+    for i in range(6):
+        lo, hi = min(lo, load[i]), max(hi, load[i])
+        total += load[i]
+    mean = total / 6  # numpy's order for 6 values (one after the other from 0)
+    r[8] = (hi - lo) / w_diff_scale
+    r[9] = max(hi - mean, mean - lo) / w_fmr_scale
+    return r
+
+
+def period_ratios(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None) -> np.ndarray:
+    """(10,) ratios of :data:`NAMES` this period (the controller's ``_ratios``), compiled.
+
+    ``u``, ``u_prev`` (5,) this and the last executed command; ``J``, ``dz``, ``wb`` the rocker
+    Jacobian (6, 3), hinge rise (2,) and front-middle wheelbases (2,) at ``delta``; ``ddelta``,
+    ``mu``, ``load`` measured; ``rim_cmd`` (6,) the last commanded rim speeds (None: no MC#2).
+    MC#2 is evaluated while the suspension moves (a rate above 1e-4 rad/s)."""
+    mc2_on = rim_cmd is not None and (abs(float(ddelta[0])) > 1e-4 or abs(float(ddelta[1])) > 1e-4)
+    rim = _NO_RIM if rim_cmd is None else np.asarray(rim_cmd, float)
+    return _ratios_kernel(mc2_on, rim, mu, np.asarray(u_prev, float), J, ddelta, dz, wb, delta,
+                          np.asarray(u, float), load, cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd,
+                          sc.v_floor, sc.w_floor, sc.vz9, sc.w_diff, sc.w_fmr)
+
+
+_NO_RIM = np.zeros(6)
+
+
+def period_ratios_reference(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None):
+    """:func:`period_ratios` with the numpy functions of this module (the form it must equal)."""
+    r = np.zeros(len(NAMES))
+    if rim_cmd is not None and (np.abs(ddelta) > 1e-4).any():
+        side = np.array([0, 1, 0, 1, 0, 1])
+        v_kin = u_prev[0] + J[:, 0] * ddelta[side]
+        r[0] = mc2_ratio(rim_cmd * np.cos(mu), v_kin, sc)
+    fl = cfg.front_len
+    r[1] = max((fl - wb[0]) / fl, (fl - wb[1]) / fl)
+    r[2] = eta_roll(dz * delta, sc)
+    r[3] = eta_yaw(wb, sc)
+    if u[3] or u[4]:
+        half = cfg.track / 2
+        v_side = np.array([u[0] - u[2] * half, u[0] + u[2] * half])
+        r[4] = eta_rocker_vs_side(J[0:2, 0] * u[3:5], v_side, sc)
+    r[5] = eta_change(u[0], u_prev[0], sc.v_floor)
+    r[6] = eta_change(u[2], u_prev[2], sc.w_floor)
+    r[7] = eta_roll_rate(dz * u[3:5], sc)
+    r[8], r[9] = load_ratios(load, sc)
+    return r

@@ -39,9 +39,8 @@ from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
 from terrabench.systems.srwmr.kinematics import (
     delta_for_clearance,
     differential_kinematics,
-    geometry_pair,
-    hinge_rise,
     inverse_kinematics,
+    period_geometry,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
@@ -245,9 +244,10 @@ class RoverController:
         ts = self.ts
         # the kinematics of this period, once: the suspension geometry (no steering offsets) for the
         # constraints, and the contact points with the steering offsets for the wheel commands
-        self._susp, self._geom = geometry_pair(self.robot, obs.delta, self.mu_cmd)
+        # (one compiled call, kinematics.period_geometry), with the hinge rise per closing angle (QP,
+        # rates, ratios) and the front-middle wheelbases
+        self._susp, self._geom, self._dz, self._wb = period_geometry(self.robot, obs.delta, self.mu_cmd)
         self._J = self._susp[1]
-        self._dz = hinge_rise(self._J)  # hinge rise per closing angle, for the QP, rates and ratios
         u_nom = np.zeros(5)
         steer_only = False
         lifted = ()
@@ -345,8 +345,7 @@ class RoverController:
                     return self._command(obs, np.zeros(5), hold=True)
         # --- constraint-saturated IK
         kappa, kappa_qp = self._kappa(st.mode)
-        J, P = self._J, self._susp[0]
-        wb = np.array([P[0, 0] - P[2, 0], P[1, 0] - P[3, 0]])
+        J, wb = self._J, self._wb
         u = self.ik.solve(u_nom, IKState(obs.delta, self.u_prev), kappa_qp, J, wb, dz=self._dz)
         if u is None:
             return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
@@ -547,34 +546,12 @@ class RoverController:
 
     # ---------------------------------------------------------------- output
     def _ratios(self, obs, u, J, wb) -> np.ndarray:
-        """The ratios eta of :data:`constraints.NAMES` this period: the expressions of the
-        ``constraints`` functions (``eta_roll``, ``eta_yaw``, ...) on plain floats."""
-        r = np.zeros(len(mc.NAMES))
-        sc = self.sc
-        dz0, dz1 = float(self._dz[0]), float(self._dz[1])
-        # MC2: while the suspension moves, the commanded rim speeds against the speeds the suspension
-        # motion requires (the RCM rolling set runs above them on purpose: it shows here)
-        if (np.abs(obs.ddelta) > 1e-4).any() and hasattr(self, "_rim_cmd"):
-            side = np.array([0, 1, 0, 1, 0, 1])
-            v_kin = self.u_prev[0] + J[:, 0] * obs.ddelta[side]
-            r[0] = mc.mc2_ratio(self._rim_cmd * np.cos(obs.mu), v_kin, sc)
-        fl = self.robot.front_len
-        wbl, wbr = float(wb[0]), float(wb[1])
-        dl, dr = float(obs.delta[0]), float(obs.delta[1])
-        u0, u2, u3, u4 = (float(x) for x in (u[0], u[2], u[3], u[4]))
-        r[1] = max((fl - wbl) / fl, (fl - wbr) / fl)
-        r[2] = abs(dz0 * dl - dz1 * dr) / sc.dh  # eta_roll
-        r[3] = abs(wbl - wbr) / sc.dd  # eta_yaw
-        half = self.robot.track / 2
-        if u3 or u4:  # eta_rocker_vs_side
-            j0, j1 = float(J[0, 0]), float(J[1, 0])
-            r[4] = max(abs(j0 * u3) / max(abs(u0 - u2 * half), sc.v_floor),
-                       abs(j1 * u4) / max(abs(u0 + u2 * half), sc.v_floor))
-        r[5] = mc.eta_change(u0, float(self.u_prev[0]), sc.v_floor)
-        r[6] = mc.eta_change(u2, float(self.u_prev[2]), sc.w_floor)
-        r[7] = abs(dz0 * u3 - dz1 * u4) / sc.vz9  # eta_roll_rate
-        r[8], r[9] = mc.load_ratios(obs.load, sc)
-        return r
+        """The ratios eta of :data:`constraints.NAMES` this period (``constraints.period_ratios``,
+        compiled: the expressions of ``eta_roll``, ``eta_yaw``, ... on scalars). MC2: while the
+        suspension moves, the commanded rim speeds against the speeds the suspension motion requires
+        (the RCM rolling set runs above them on purpose: it shows here)."""
+        return mc.period_ratios(self.robot, self.sc, u, self.u_prev, J, self._dz, wb, obs.delta, obs.ddelta,
+                                obs.mu, obs.load, getattr(self, "_rim_cmd", None))
 
     def _command(self, obs, u, *, hold: bool = False, steer_only: bool = False, lifted=(), ratios=None) -> Command:
         ts = self.ts

@@ -19,6 +19,7 @@ import math
 import time
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import qpsolvers
 
@@ -204,12 +205,70 @@ def build_qp(
     return G, h, lb, ub
 
 
+@numba.njit(cache=True)
+def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, ts, dh, dd, v_floor, w_floor, vz9,
+               v_max, w_max, rate_max, lo, hi):
+    """:func:`build_qp` compiled (the same expressions in the same order: bitwise the same G, h,
+    lb, ub; tested) and where ``u_nom`` lies: 0 the bounds are empty (infeasible), 1 inside the
+    set (the QP's own optimum), 2 outside (the solver is needed)."""
+    j00, j10 = J[0, 0], J[1, 0]
+    dwb0, dwb1 = j00 - J[2, 0], j10 - J[3, 0]
+    k3, k4, k5, k6, k7, k8, k9 = kappa[1], kappa[2], kappa[3], kappa[4], kappa[5], kappa[6], kappa[7]
+    big = 1e6
+    hl, hr = dz0 * d0, dz1 * d1
+    lim6l = k6 * max(abs(u0 - u2 * half), v_floor) if math.isfinite(k6) else big
+    lim6r = k6 * max(abs(u0 + u2 * half), v_floor) if math.isfinite(k6) else big
+    lim7 = k7 * max(abs(u0), v_floor) if math.isfinite(k7) else big
+    lim8 = k8 * max(abs(u2), w_floor) if math.isfinite(k8) else big
+    lim9 = k9 * vz9 if math.isfinite(k9) else big
+    G = np.zeros((16, 5))
+    G[0, 3], G[1, 4] = -dwb0 * ts / wb0, -dwb1 * ts / wb0  # MC3
+    G[2, 3], G[2, 4], G[3, 3], G[3, 4] = dz0 * ts, -dz1 * ts, -dz0 * ts, dz1 * ts  # MC4
+    G[4, 3], G[4, 4], G[5, 3], G[5, 4] = dwb0 * ts, -dwb1 * ts, -dwb0 * ts, dwb1 * ts  # MC5
+    G[6, 3], G[7, 3], G[8, 4], G[9, 4] = j00, -j00, j10, -j10  # MC6
+    G[10, 0], G[11, 0], G[12, 2], G[13, 2] = 1.0, -1.0, 1.0, -1.0  # MC7, MC8
+    G[14, 3], G[14, 4], G[15, 3], G[15, 4] = dz0, -dz1, -dz0, dz1  # MC9
+    h = np.empty(16)
+    h[0] = (k3 - (wb0 - wbl) / wb0) if math.isfinite(k3) else big
+    h[1] = (k3 - (wb0 - wbr) / wb0) if math.isfinite(k3) else big
+    h[2] = (k4 * dh - (hl - hr)) if math.isfinite(k4) else big
+    h[3] = (k4 * dh + (hl - hr)) if math.isfinite(k4) else big
+    h[4] = (k5 * dd - (wbl - wbr)) if math.isfinite(k5) else big
+    h[5] = (k5 * dd + (wbl - wbr)) if math.isfinite(k5) else big
+    h[6] = h[7] = lim6l
+    h[8] = h[9] = lim6r
+    h[10], h[11], h[12], h[13] = u0 + lim7, -u0 + lim7, u2 + lim8, -u2 + lim8
+    h[14] = h[15] = lim9
+    lb = np.empty(5)
+    ub = np.empty(5)
+    lb[0], lb[1], lb[2] = -v_max, -v_max, -w_max
+    ub[0], ub[1], ub[2] = v_max, v_max, w_max
+    lb[3], lb[4] = max(-rate_max, (lo - d0) / ts), max(-rate_max, (lo - d1) / ts)
+    ub[3], ub[4] = min(rate_max, (hi - d0) / ts), min(rate_max, (hi - d1) / ts)
+    where = 1
+    for j in range(5):
+        if lb[j] > ub[j] + 1e-12:
+            return G, h, lb, ub, 0
+        if u_nom[j] < lb[j] or u_nom[j] > ub[j]:
+            where = 2
+    for i in range(16):
+        gu = 0.0
+        for j in range(5):
+            gu += G[i, j] * u_nom[j]
+        if not gu <= h[i] + 1e-12:
+            where = 2
+    return G, h, lb, ub, where
+
+
 class SaturatedIK:
     """The per-step projection; keeps solve-time statistics (``times`` in seconds)."""
 
     def __init__(self, cfg: RobotConfig, lim: IKLimits, sc: mc.Scales, ts: float, solver: str = "daqp"):
         self.cfg, self.lim, self.sc, self.ts, self.solver = cfg, lim, sc, ts, solver
         self.P = np.diag(np.asarray(lim.weights, float))
+        # the scalars :func:`_qp_kernel` reads after u_nom, in its order
+        self._consts = (cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+                        lim.v_max, lim.w_max, lim.rate_max, float(lim.delta_range[0]), float(lim.delta_range[1]))
         self.times: list[float] = []
         self.active = 0  # steps where the projection changed the command
         self.inside = 0  # steps whose nominal command was already feasible (no solver call)
@@ -227,12 +286,22 @@ class SaturatedIK:
         """u* or None when infeasible (``J``, ``wb``, ``dz``: the rocker Jacobian, wheelbases and
         hinge rise at ``st.delta`` if already known). A nominal command inside the set is the QP's own optimum
         and is returned without calling the solver (``always``: call it anyway, for timing)."""
-        G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J, wb, dz)
-        if (lb > ub + 1e-12).any():
-            return None
-        if not always and (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all():
+        u_nom = np.asarray(u_nom, float)
+        if J is None or wb is None or dz is None:
+            G, h, lb, ub = build_qp(self.cfg, st, kappa, self.sc, self.lim, self.ts, J, wb, dz)
+            if (lb > ub + 1e-12).any():
+                return None
+            where = 1 if (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all() else 2
+        else:
+            d, up = st.delta, st.u_prev
+            G, h, lb, ub, where = _qp_kernel(J, float(d[0]), float(d[1]), float(wb[0]), float(wb[1]),
+                                             float(dz[0]), float(dz[1]), kappa, float(up[0]), float(up[2]),
+                                             u_nom, *self._consts)
+            if where == 0:
+                return None
+        if not always and where == 1:
             self.inside += 1
-            return np.asarray(u_nom, float).copy()
+            return u_nom.copy()
         q = -self.P @ u_nom
         t0 = time.perf_counter()
         u = qpsolvers.solve_qp(self.P, q, G, h, lb=lb, ub=ub, solver=self.solver)

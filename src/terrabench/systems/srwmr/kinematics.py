@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
@@ -119,11 +120,9 @@ def _consts(cfg: RobotConfig) -> tuple:
     return hit[1:]
 
 
-def geometry_pair(cfg: RobotConfig, delta, mu):
-    """``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass: the suspension geometry
-    without steering offsets (constraints) and with them (wheel commands), the section angles'
-    trigonometry shared and each array built once. The same expressions as :func:`geometry`,
-    so bitwise the same numbers (tested)."""
+def geometry_pair_reference(cfg: RobotConfig, delta, mu):
+    """:func:`geometry_pair` in Python floats (the form the compiled kernel must equal bitwise;
+    tested): ``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass."""
     d0, d1 = float(delta[0]), float(delta[1])
     b, a, bh, z, th0, lpr, lpf, e, yl = _consts(cfg)
     mu = mu.tolist() if isinstance(mu, np.ndarray) else [float(m) for m in mu]
@@ -149,6 +148,73 @@ def geometry_pair(cfg: RobotConfig, delta, mu):
             PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * cm, -xa * sq - lpf * cq)
             JJ[s] = (z * (-xa * sq - lpf * cq), 0.0, z * (-xa * cq + lpf * sq))
     return (np.array(P0), np.array(J0)), (np.array(P), np.array(J))
+
+
+@numba.njit(cache=True)
+def _suspension_kernel(d0, d1, mu, b, a, bh, z, th0, lpr, lpf, e, yl):
+    """The expressions of :func:`geometry_pair_reference`, compiled (scalar libm sin/cos, the
+    same operations in the same order: bitwise the same numbers), plus the hinge rise (2,) and
+    the front-middle wheelbases (2,) of the offset-free geometry."""
+    P0 = np.empty((6, 3))
+    P = np.empty((6, 3))
+    J0 = np.zeros((6, 3))
+    J = np.zeros((6, 3))
+    s0, c0 = math.sin(0.0), math.cos(0.0)
+    for s in range(2):
+        dl = d0 if s == 0 else d1
+        sg = 1.0 if s == 0 else -1.0
+        ang = th0 + dl
+        ca, sa = math.cos(ang), math.sin(ang)
+        px, pz = -b * ca, -b * sa
+        for k in range(2):
+            wi = 2 + s + 2 * k
+            xb = bh if k == 0 else -bh
+            m = mu[wi]
+            P0[wi, 0] = px + xb - sg * e * s0
+            P0[wi, 1] = sg * yl + sg * e * c0
+            P0[wi, 2] = pz - lpr
+            P[wi, 0] = px + xb - sg * e * math.sin(m)
+            P[wi, 1] = sg * yl + sg * e * math.cos(m)
+            P[wi, 2] = pz - lpr
+            J0[wi, 0] = J[wi, 0] = b * sa
+            J0[wi, 2] = J[wi, 2] = -b * ca
+        cq, sq = math.cos(z * dl), math.sin(z * dl)
+        for k in range(2):
+            sm = s0 if k == 0 else math.sin(mu[s])
+            cm = c0 if k == 0 else math.cos(mu[s])
+            PP = P0 if k == 0 else P
+            JJ = J0 if k == 0 else J
+            xa = a - sg * e * sm
+            PP[s, 0] = xa * cq - lpf * sq
+            PP[s, 1] = sg * yl + sg * e * cm
+            PP[s, 2] = -xa * sq - lpf * cq
+            JJ[s, 0] = z * (-xa * sq - lpf * cq)
+            JJ[s, 2] = z * (-xa * cq + lpf * sq)
+    dz = np.empty(2)
+    dz[0] = -(J0[0, 2] + J0[2, 2] + J0[4, 2]) / 3
+    dz[1] = -(J0[1, 2] + J0[3, 2] + J0[5, 2]) / 3
+    wb = np.empty(2)
+    wb[0] = P0[0, 0] - P0[2, 0]
+    wb[1] = P0[1, 0] - P0[3, 0]
+    return P0, J0, P, J, dz, wb
+
+
+def period_geometry(cfg: RobotConfig, delta, mu):
+    """The suspension geometry of one control period in one compiled call: ``((P0, J0), (P, J),
+    dz, wb)``: :func:`geometry` without and with the steering offsets ``mu``, the hinge rise
+    :func:`hinge_rise` of ``J0`` and the front-middle wheelbases of ``P0`` (fresh arrays)."""
+    b, a, bh, z, th0, lpr, lpf, e, yl = _consts(cfg)
+    P0, J0, P, J, dz, wb = _suspension_kernel(float(delta[0]), float(delta[1]), np.asarray(mu, float),
+                                              b, a, bh, z, th0, lpr, lpf, e, yl)
+    return (P0, J0), (P, J), dz, wb
+
+
+def geometry_pair(cfg: RobotConfig, delta, mu):
+    """``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one compiled pass: the suspension
+    geometry without steering offsets (constraints) and with them (wheel commands). The same
+    expressions as :func:`geometry`, so bitwise the same numbers (tested)."""
+    susp, geom, _, _ = period_geometry(cfg, delta, mu)
+    return susp, geom
 
 
 def hinge_rise(J: np.ndarray) -> np.ndarray:
@@ -292,12 +358,69 @@ def differential_kinematics(cfg: RobotConfig, u, geom) -> tuple[np.ndarray, np.n
     return np.zeros(6), vx / cfg.wheel_radius
 
 
+@numba.njit(cache=True)
+def _contact_velocity_kernel(u, c, J):
+    """:func:`wheel_velocities` on scalars (compiled; the same expressions in the same order,
+    bitwise): the required contact velocity components vx (6,), vy (6,)."""
+    vx = np.empty(6)
+    vy = np.empty(6)
+    for i in range(6):
+        rate = u[3] if i % 2 == 0 else u[4]
+        vx[i] = u[0] - u[2] * c[i, 1] + J[i, 0] * rate
+        vy[i] = u[1] + u[2] * c[i, 0]
+    return vx, vy
+
+
+@numba.njit(cache=True)
+def _steer_fold_kernel(ang, speed, mu_prev, r, v_min, hyst):
+    """:func:`steer_and_spin` per wheel from the headings and speeds (compiled, bitwise): the
+    representation within +-90 deg unless the other one is nearer ``mu_prev`` and within the
+    hysteresis (a wheel already far from +-90 deg takes the first branch of the reference:
+    its other representation is never admissible)."""
+    mu = np.empty(6)
+    spin = np.empty(6)
+    half_pi = math.pi / 2
+    for i in range(6):
+        a = ang[i]
+        if speed[i] < v_min:
+            mu[i], spin[i] = mu_prev[i], 0.0
+            continue
+        flip = abs(a) > half_pi + 1e-9
+        sgn = 1.0 if a > 0 else (-1.0 if a < 0 else 0.0)
+        alt = a - sgn * math.pi
+        base = alt if flip else a
+        other = a if flip else alt
+        if abs(other) <= half_pi + hyst and abs(other - mu_prev[i]) < abs(base - mu_prev[i]):
+            flip = not flip
+            base = other
+        mu[i] = base
+        spin[i] = (-speed[i] if flip else speed[i]) / r
+    return mu, spin
+
+
 def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):
     """Steering angles (6,) and spin rates (6,) (rad/s) for ``u``; lifted wheels get 0 spin.
 
     ``mu_rate`` (6,) adds the offset-wheel term: turning the steering axis by mu_dot moves the
     contact point backwards along the heading by e mu_dot, rolled out by -e mu_dot / r.
+    With ``geom`` (the controller's per-period geometry) the compiled kernels compute it
+    (bitwise :func:`inverse_kinematics_reference`, the numpy form; tested).
     """
+    if geom is None or mu_rate is not None:
+        return inverse_kinematics_reference(cfg, u, delta, mu_prev, mu_rate, lifted, geom)
+    mu_prev = np.zeros(6) if mu_prev is None else np.asarray(mu_prev, float)
+    vx, vy = _contact_velocity_kernel(np.asarray(u, float), geom[0], geom[1])
+    # numpy's array hypot / arctan2 (SIMD kernels): libm's differ in the last bits
+    mu, spin = _steer_fold_kernel(np.arctan2(vy, vx), np.hypot(vx, vy), mu_prev, cfg.wheel_radius, 1e-6,
+                                  STEER_HYSTERESIS)
+    for i in lifted:
+        spin[i] = 0.0
+    return mu, spin
+
+
+def inverse_kinematics_reference(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):
+    """:func:`inverse_kinematics` with numpy arrays (:func:`wheel_velocities`,
+    :func:`steer_and_spin`)."""
     v = wheel_velocities(cfg, u, delta, mu=mu_prev, geom=geom)
     mu, spin = steer_and_spin(v, cfg.wheel_radius, mu_prev)
     if mu_rate is not None:

@@ -131,3 +131,24 @@ def test_row_fills_every_column_from_its_source():
     assert [col[f"eta_{n}"] for n in mc.NAMES] == list(cmd.ratios)
     empty = task.row(obs, None)
     assert np.isnan(empty[COLUMNS.index("v_cmd")]) and np.isnan(empty[COLUMNS.index("eta_MC2")])
+
+
+def test_compiled_observation_read_equals_the_numpy_form_bitwise():
+    from terrabench.systems.srwmr.sensing import FIELDS, Observation
+
+    spec = SYSTEM.plan(methods=["rclm"], instances=["t3-rclm"], overrides={"protocol.timeout": 1.0})[0]
+    cfg = SYSTEM.load_config(spec.config)
+    task = SYSTEM.make_task(spec, cfg)
+    ctl = SYSTEM.make_controller(spec, cfg, task)
+    ep = Episode(task)
+    obs, _ = ep.begin()
+    for noise in (5.0, 0.0):
+        fast = Observation(task.model, task.data, np.random.default_rng(5), load_noise=noise)
+        ref = Observation(task.model, task.data, np.random.default_rng(5), load_noise=noise)
+        for _ in range(20):
+            obs, _ = ep.step(ctl(obs))
+            fast.refresh()
+            ref.refresh_reference()
+            for f in FIELDS:
+                assert np.array_equal(getattr(fast, f), getattr(ref, f)), f
+    assert obs.delta[0] != 0.0 and np.abs(obs.spin).max() > 0.0  # a state that moves

@@ -30,8 +30,10 @@ CCM_NOTE = (
     "Nagatani et al. 2008 / Okada et al. 2009: approach with the front flippers raised and held, "
     "press them on the edge and push with the rear flippers, flatten on the top. Where an operator "
     "would try again, it backs off after 6 s without pitch gain and retries, rearing the nose "
-    "higher (0.3 rad more) before it presses each time; its abort sits at the turned-over threshold "
-    "(1.2 rad), so it cannot hide that outcome. What it cannot stand in for: an operator's view "
+    "higher (0.3 rad more) before it presses each time; it aborts (stops, flattens) at the static "
+    "tip-back angle, the pitch at which the COG is over the rear contact (0.92 rad with the rear "
+    "flippers pushing): the fall has begun there, so the abort cannot hide the turn-over. What it "
+    "cannot stand in for: an operator's view "
     "of the edge and judgement of when to stop.")
 MARGIN_NOTE = (
     "Stability margin: the paper's static margin, the distance from the COG's ground projection to "

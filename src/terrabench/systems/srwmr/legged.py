@@ -56,6 +56,8 @@ LIFT_SPEED = 0.007
 TOUCH_SHARE = 0.5
 #: clutch settle time before and after the rocker moves (s) [R]
 SETTLE_S = 0.5
+#: a lift below this share of its target leaves the wheel driven during the roll [R]
+DRIVE_SHARE = 0.5
 #: DWLM lift: the reference wheels must keep this share of the nominal wheel load [R]
 REF_SHARE = 0.1
 #: SWLM roll levelling gain (1/s) of the unclutched side [R]: a 2 s time constant, slow against the
@@ -245,6 +247,12 @@ class LeggedAction:
         if name == "roll":
             if self.x0 is None:
                 self.x0 = x
+                if self.achieved < DRIVE_SHARE * st.height:
+                    # a lift that stayed low leaves the wheel on the ground: it keeps driving (undriven it
+                    # braked the rover to a stop, measured on the rear lifts of T7 / T13)
+                    self.lifted = ()
+                    self._note(obs.t, f"lift {1000 * self.achieved:.0f} mm < {DRIVE_SHARE:.0%} of the target: "
+                                      "the wheel(s) keep driving")
             if x >= self.x0 + st.dist:
                 self.x0 = None
                 self.advance(obs, f"rolled {st.dist:.2f} m with {'+'.join(self.lift)} lifted")

@@ -70,7 +70,8 @@ def test_compiled_qp_rows_equal_build_qp_bitwise_and_place_u_nom_alike():
         kappa = mc.qp_thresholds(mode) if i % 3 == 0 else mc.thresholds(mode)
         (_, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
         ref = build_qp(CFG, IKState(d, u), kappa, sc, lim, 0.01, J, wb, dz)
-        *fast, where = _qp_kernel(J, d[0], d[1], wb[0], wb[1], dz[0], dz[1], kappa, u[0], u[2], u_nom, *ik._consts)
+        fast = (np.full((16, 5), np.nan), np.full(16, np.nan), np.full(5, np.nan), np.full(5, np.nan))
+        where = _qp_kernel(J, d, wb, dz, kappa, u, u_nom, ik._consts, *fast)
         assert all(np.array_equal(a, b) for a, b in zip(ref, fast))
         G, h, lb, ub = ref
         inside = (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all()
@@ -152,3 +153,18 @@ def test_compiled_observation_read_equals_the_numpy_form_bitwise():
             for f in FIELDS:
                 assert np.array_equal(getattr(fast, f), getattr(ref, f)), f
     assert obs.delta[0] != 0.0 and np.abs(obs.spin).max() > 0.0  # a state that moves
+
+
+def test_compiled_log_row_equals_the_numpy_form_bitwise():
+    spec = SYSTEM.plan(methods=["rclm"], instances=["t3-rclm"], overrides={"protocol.timeout": 1.0})[0]
+    cfg = SYSTEM.load_config(spec.config)
+    task = SYSTEM.make_task(spec, cfg)
+    ctl = SYSTEM.make_controller(spec, cfg, task)
+    ep = Episode(task)
+    obs, _ = ep.begin()
+    for _ in range(40):
+        cmd = ctl(obs)
+        assert np.array_equal(task.row(obs, cmd), task.row_reference(obs, cmd), equal_nan=True)
+        obs, _ = ep.step(cmd)
+    assert np.array_equal(task.row(obs, None), task.row_reference(obs, None), equal_nan=True)
+    assert np.abs(task.row(obs, cmd)[COLUMNS.index("P_drive")]) > 0.0

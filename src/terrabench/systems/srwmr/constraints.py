@@ -178,12 +178,13 @@ def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
 
 
 @numba.njit(cache=True)
-def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, load, fl, half,
-                   v2, dh, dd, v_floor, w_floor, vz9, w_diff_scale, w_fmr_scale):
+def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, load, k):
     """The ratios of :data:`NAMES` of one control period, compiled: the expressions of
     :func:`mc2_ratio`, :func:`eta_roll`, :func:`eta_yaw`, :func:`eta_change`,
     :func:`load_ratios` ... in the same order on scalars (bitwise :func:`period_ratios_reference`;
     tested)."""
+    fl, half, v2, dh, dd, v_floor, w_floor, vz9, w_diff_scale, w_fmr_scale = (
+        k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9])
     r = np.zeros(10)
     u0, u2, u3, u4 = u[0], u[2], u[3], u[4]
     if mc2_on:
@@ -222,12 +223,17 @@ def period_ratios(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load
     MC#2 is evaluated while the suspension moves (a rate above 1e-4 rad/s)."""
     mc2_on = rim_cmd is not None and (abs(float(ddelta[0])) > 1e-4 or abs(float(ddelta[1])) > 1e-4)
     rim = _NO_RIM if rim_cmd is None else np.asarray(rim_cmd, float)
+    k = _RATIO_CONSTS.get((id(cfg), id(sc)))
+    if k is None or k[0] is not cfg or k[1] is not sc:
+        k = _RATIO_CONSTS[(id(cfg), id(sc))] = (cfg, sc, np.array(
+            (cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9, sc.w_diff, sc.w_fmr)))
     return _ratios_kernel(mc2_on, rim, mu, np.asarray(u_prev, float), J, ddelta, dz, wb, delta,
-                          np.asarray(u, float), load, cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd,
-                          sc.v_floor, sc.w_floor, sc.vz9, sc.w_diff, sc.w_fmr)
+                          np.asarray(u, float), load, k[2])
 
 
 _NO_RIM = np.zeros(6)
+#: the scalars the ratios read, one float array per (robot, scales) config
+_RATIO_CONSTS: dict[tuple[int, int], tuple] = {}
 
 
 def period_ratios_reference(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None):

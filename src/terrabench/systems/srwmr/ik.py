@@ -206,11 +206,14 @@ def build_qp(
 
 
 @numba.njit(cache=True)
-def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, ts, dh, dd, v_floor, w_floor, vz9,
-               v_max, w_max, rate_max, lo, hi):
+def _qp_kernel(J, d, wb, dz, kappa, u_prev, u_nom, k, G, h, lb, ub):
     """:func:`build_qp` compiled (the same expressions in the same order: bitwise the same G, h,
-    lb, ub; tested) and where ``u_nom`` lies: 0 the bounds are empty (infeasible), 1 inside the
-    set (the QP's own optimum), 2 outside (the solver is needed)."""
+    lb, ub; tested), written into the buffers ``G``, ``h``, ``lb``, ``ub``, and where ``u_nom``
+    lies: 0 the bounds are empty (infeasible), 1 inside the set (the QP's own optimum), 2 outside
+    (the solver is needed). ``k``: the scalars of :attr:`SaturatedIK._consts`."""
+    d0, d1, wbl, wbr, dz0, dz1, u0, u2 = d[0], d[1], wb[0], wb[1], dz[0], dz[1], u_prev[0], u_prev[2]
+    wb0, half, ts, dh, dd, v_floor, w_floor, vz9 = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7]
+    v_max, w_max, rate_max, lo, hi = k[8], k[9], k[10], k[11], k[12]
     j00, j10 = J[0, 0], J[1, 0]
     dwb0, dwb1 = j00 - J[2, 0], j10 - J[3, 0]
     k3, k4, k5, k6, k7, k8, k9 = kappa[1], kappa[2], kappa[3], kappa[4], kappa[5], kappa[6], kappa[7]
@@ -221,14 +224,13 @@ def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, t
     lim7 = k7 * max(abs(u0), v_floor) if math.isfinite(k7) else big
     lim8 = k8 * max(abs(u2), w_floor) if math.isfinite(k8) else big
     lim9 = k9 * vz9 if math.isfinite(k9) else big
-    G = np.zeros((16, 5))
+    G[:] = 0.0
     G[0, 3], G[1, 4] = -dwb0 * ts / wb0, -dwb1 * ts / wb0  # MC3
     G[2, 3], G[2, 4], G[3, 3], G[3, 4] = dz0 * ts, -dz1 * ts, -dz0 * ts, dz1 * ts  # MC4
     G[4, 3], G[4, 4], G[5, 3], G[5, 4] = dwb0 * ts, -dwb1 * ts, -dwb0 * ts, dwb1 * ts  # MC5
     G[6, 3], G[7, 3], G[8, 4], G[9, 4] = j00, -j00, j10, -j10  # MC6
     G[10, 0], G[11, 0], G[12, 2], G[13, 2] = 1.0, -1.0, 1.0, -1.0  # MC7, MC8
     G[14, 3], G[14, 4], G[15, 3], G[15, 4] = dz0, -dz1, -dz0, dz1  # MC9
-    h = np.empty(16)
     h[0] = (k3 - (wb0 - wbl) / wb0) if math.isfinite(k3) else big
     h[1] = (k3 - (wb0 - wbr) / wb0) if math.isfinite(k3) else big
     h[2] = (k4 * dh - (hl - hr)) if math.isfinite(k4) else big
@@ -239,8 +241,6 @@ def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, t
     h[8] = h[9] = lim6r
     h[10], h[11], h[12], h[13] = u0 + lim7, -u0 + lim7, u2 + lim8, -u2 + lim8
     h[14] = h[15] = lim9
-    lb = np.empty(5)
-    ub = np.empty(5)
     lb[0], lb[1], lb[2] = -v_max, -v_max, -w_max
     ub[0], ub[1], ub[2] = v_max, v_max, w_max
     lb[3], lb[4] = max(-rate_max, (lo - d0) / ts), max(-rate_max, (lo - d1) / ts)
@@ -248,7 +248,7 @@ def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, t
     where = 1
     for j in range(5):
         if lb[j] > ub[j] + 1e-12:
-            return G, h, lb, ub, 0
+            return 0
         if u_nom[j] < lb[j] or u_nom[j] > ub[j]:
             where = 2
     for i in range(16):
@@ -257,7 +257,7 @@ def _qp_kernel(J, d0, d1, wbl, wbr, dz0, dz1, kappa, u0, u2, u_nom, wb0, half, t
             gu += G[i, j] * u_nom[j]
         if not gu <= h[i] + 1e-12:
             where = 2
-    return G, h, lb, ub, where
+    return where
 
 
 class SaturatedIK:
@@ -267,8 +267,9 @@ class SaturatedIK:
         self.cfg, self.lim, self.sc, self.ts, self.solver = cfg, lim, sc, ts, solver
         self.P = np.diag(np.asarray(lim.weights, float))
         # the scalars :func:`_qp_kernel` reads after u_nom, in its order
-        self._consts = (cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
-                        lim.v_max, lim.w_max, lim.rate_max, float(lim.delta_range[0]), float(lim.delta_range[1]))
+        self._consts = np.array((cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+                                 lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1]), float)
+        self._G, self._h, self._lb, self._ub = np.zeros((N_INEQ, N_U)), np.zeros(N_INEQ), np.zeros(N_U), np.zeros(N_U)
         self.times: list[float] = []
         self.active = 0  # steps where the projection changed the command
         self.inside = 0  # steps whose nominal command was already feasible (no solver call)
@@ -293,12 +294,12 @@ class SaturatedIK:
                 return None
             where = 1 if (G @ u_nom <= h + 1e-12).all() and (u_nom >= lb).all() and (u_nom <= ub).all() else 2
         else:
-            d, up = st.delta, st.u_prev
-            G, h, lb, ub, where = _qp_kernel(J, float(d[0]), float(d[1]), float(wb[0]), float(wb[1]),
-                                             float(dz[0]), float(dz[1]), kappa, float(up[0]), float(up[2]),
-                                             u_nom, *self._consts)
+            G, h, lb, ub = self._G, self._h, self._lb, self._ub
+            where = _qp_kernel(J, np.asarray(st.delta, float), wb, dz, kappa, np.asarray(st.u_prev, float), u_nom,
+                               self._consts, G, h, lb, ub)
             if where == 0:
                 return None
+            # (the buffers are this call's: the solver reads them now, nothing keeps them)
         if not always and where == 1:
             self.inside += 1
             return u_nom.copy()

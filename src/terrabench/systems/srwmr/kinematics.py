@@ -120,6 +120,17 @@ def _consts(cfg: RobotConfig) -> tuple:
     return hit[1:]
 
 
+_CONSTS_ARR: dict[int, tuple] = {}
+
+
+def _consts_array(cfg: RobotConfig) -> np.ndarray:
+    """:func:`_consts` as one float array (the compiled kernels' argument)."""
+    hit = _CONSTS_ARR.get(id(cfg))
+    if hit is None or hit[0] is not cfg:
+        hit = _CONSTS_ARR[id(cfg)] = (cfg, np.array(_consts(cfg), float))
+    return hit[1]
+
+
 def geometry_pair_reference(cfg: RobotConfig, delta, mu):
     """:func:`geometry_pair` in Python floats (the form the compiled kernel must equal bitwise;
     tested): ``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass."""
@@ -151,14 +162,16 @@ def geometry_pair_reference(cfg: RobotConfig, delta, mu):
 
 
 @numba.njit(cache=True)
-def _suspension_kernel(d0, d1, mu, b, a, bh, z, th0, lpr, lpf, e, yl):
+def _suspension_kernel(delta, mu, k):
     """The expressions of :func:`geometry_pair_reference`, compiled (scalar libm sin/cos, the
     same operations in the same order: bitwise the same numbers), plus the hinge rise (2,) and
-    the front-middle wheelbases (2,) of the offset-free geometry."""
-    P0 = np.empty((6, 3))
-    P = np.empty((6, 3))
-    J0 = np.zeros((6, 3))
-    J = np.zeros((6, 3))
+    the front-middle wheelbases (2,) of the offset-free geometry. ``k``: the robot's lengths
+    (:func:`_consts`). Returns one (5, 6, 3) array: P0, J0, P, J, then [4, 0, :2] the hinge rise
+    and [4, 1, :2] the wheelbases (one array: each array a compiled call returns costs ~0.6 us)."""
+    d0, d1 = delta[0], delta[1]
+    b, a, bh, z, th0, lpr, lpf, e, yl = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8]
+    out = np.zeros((5, 6, 3))
+    P0, J0, P, J = out[0], out[1], out[2], out[3]
     s0, c0 = math.sin(0.0), math.cos(0.0)
     for s in range(2):
         dl = d0 if s == 0 else d1
@@ -190,23 +203,19 @@ def _suspension_kernel(d0, d1, mu, b, a, bh, z, th0, lpr, lpf, e, yl):
             PP[s, 2] = -xa * sq - lpf * cq
             JJ[s, 0] = z * (-xa * sq - lpf * cq)
             JJ[s, 2] = z * (-xa * cq + lpf * sq)
-    dz = np.empty(2)
-    dz[0] = -(J0[0, 2] + J0[2, 2] + J0[4, 2]) / 3
-    dz[1] = -(J0[1, 2] + J0[3, 2] + J0[5, 2]) / 3
-    wb = np.empty(2)
-    wb[0] = P0[0, 0] - P0[2, 0]
-    wb[1] = P0[1, 0] - P0[3, 0]
-    return P0, J0, P, J, dz, wb
+    out[4, 0, 0] = -(J0[0, 2] + J0[2, 2] + J0[4, 2]) / 3
+    out[4, 0, 1] = -(J0[1, 2] + J0[3, 2] + J0[5, 2]) / 3
+    out[4, 1, 0] = P0[0, 0] - P0[2, 0]
+    out[4, 1, 1] = P0[1, 0] - P0[3, 0]
+    return out
 
 
 def period_geometry(cfg: RobotConfig, delta, mu):
     """The suspension geometry of one control period in one compiled call: ``((P0, J0), (P, J),
     dz, wb)``: :func:`geometry` without and with the steering offsets ``mu``, the hinge rise
     :func:`hinge_rise` of ``J0`` and the front-middle wheelbases of ``P0`` (fresh arrays)."""
-    b, a, bh, z, th0, lpr, lpf, e, yl = _consts(cfg)
-    P0, J0, P, J, dz, wb = _suspension_kernel(float(delta[0]), float(delta[1]), np.asarray(mu, float),
-                                              b, a, bh, z, th0, lpr, lpf, e, yl)
-    return (P0, J0), (P, J), dz, wb
+    g = _suspension_kernel(np.asarray(delta, float), np.asarray(mu, float), _consts_array(cfg))
+    return (g[0], g[1]), (g[2], g[3]), g[4, 0, :2], g[4, 1, :2]
 
 
 def geometry_pair(cfg: RobotConfig, delta, mu):
@@ -362,13 +371,12 @@ def differential_kinematics(cfg: RobotConfig, u, geom) -> tuple[np.ndarray, np.n
 def _contact_velocity_kernel(u, c, J):
     """:func:`wheel_velocities` on scalars (compiled; the same expressions in the same order,
     bitwise): the required contact velocity components vx (6,), vy (6,)."""
-    vx = np.empty(6)
-    vy = np.empty(6)
+    v = np.empty((2, 6))
     for i in range(6):
         rate = u[3] if i % 2 == 0 else u[4]
-        vx[i] = u[0] - u[2] * c[i, 1] + J[i, 0] * rate
-        vy[i] = u[1] + u[2] * c[i, 0]
-    return vx, vy
+        v[0, i] = u[0] - u[2] * c[i, 1] + J[i, 0] * rate
+        v[1, i] = u[1] + u[2] * c[i, 0]
+    return v
 
 
 @numba.njit(cache=True)
@@ -377,8 +385,8 @@ def _steer_fold_kernel(ang, speed, mu_prev, r, v_min, hyst):
     representation within +-90 deg unless the other one is nearer ``mu_prev`` and within the
     hysteresis (a wheel already far from +-90 deg takes the first branch of the reference:
     its other representation is never admissible)."""
-    mu = np.empty(6)
-    spin = np.empty(6)
+    out = np.empty((2, 6))
+    mu, spin = out[0], out[1]
     half_pi = math.pi / 2
     for i in range(6):
         a = ang[i]
@@ -395,7 +403,7 @@ def _steer_fold_kernel(ang, speed, mu_prev, r, v_min, hyst):
             base = other
         mu[i] = base
         spin[i] = (-speed[i] if flip else speed[i]) / r
-    return mu, spin
+    return out
 
 
 def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):
@@ -413,6 +421,7 @@ def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, l
     # numpy's array hypot / arctan2 (SIMD kernels): libm's differ in the last bits
     mu, spin = _steer_fold_kernel(np.arctan2(vy, vx), np.hypot(vx, vy), mu_prev, cfg.wheel_radius, 1e-6,
                                   STEER_HYSTERESIS)
+    spin = spin.copy()  # its own buffer (callers change it in place)
     for i in lifted:
         spin[i] = 0.0
     return mu, spin

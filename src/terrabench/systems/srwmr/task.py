@@ -12,6 +12,7 @@ import dataclasses
 import math
 
 import mujoco
+import numba
 import numpy as np
 
 from terrabench.sim.checks import turned_over
@@ -49,9 +50,49 @@ COLUMNS = (
 )
 _NC = len(COLUMNS)
 _ETA = slice(COLUMNS.index("eta_MC2"), COLUMNS.index("eta_MC2") + len(mc.NAMES))
-_ETA_END = _ETA.stop  # v_lat, vy_cmd, wz, wz_cmd follow the ratios
+_ETA_START, _ETA_END = _ETA.start, _ETA.stop  # v_lat, vy_cmd, wz, wz_cmd follow the ratios
 assert COLUMNS[12:14] == ("slip", "sinkage") and COLUMNS[20:22] == ("DP", "P_drive") and COLUMNS[22] == "DP_c1"
 assert COLUMNS[_ETA_END:] == ("v_lat", "vy_cmd", "wz", "wz_cmd")
+
+
+_NO_U = np.zeros(5)
+_NO_RATIOS = np.zeros(len(mc.NAMES))
+
+
+@numba.njit(cache=True)
+def _row_kernel(p, qvel, rpy, delta, slip, sink, fn, dp, force, vel, drive, load, ratios, u, mode, step, has_cmd):
+    """One log row (:data:`COLUMNS`): the expressions of :meth:`SRWMRTask.row_reference` on
+    scalars, sums over the six wheels one after the other from 0 (numpy's order for six values)."""
+    out = np.empty(_NC)
+    out[0], out[1], out[2] = p[0], p[1], p[2]
+    yaw = rpy[2]
+    c, s = math.cos(yaw), math.sin(yaw)
+    out[3], out[4], out[5] = yaw, rpy[1], rpy[0]
+    out[6] = c * qvel[0] + s * qvel[1]
+    out[8], out[9] = delta[0], delta[1]
+    s_slip = s_sink = s_dp = s_pow = 0.0
+    for i in range(6):
+        s_slip += slip[i]
+        s_sink += sink[i]
+        s_dp += dp[i]
+        s_pow += abs(force[drive[i]] * vel[drive[i]])
+        out[14 + i] = fn[i]
+        out[22 + i] = dp[i]
+        out[28 + i] = load[i]
+    out[12] = s_slip / 6
+    out[13] = s_sink / 6
+    out[20] = s_dp
+    out[21] = s_pow
+    for i in range(_ETA_END - _ETA_START):
+        out[_ETA_START + i] = ratios[i] if has_cmd else np.nan
+    out[_ETA_END] = -s * qvel[0] + c * qvel[1]
+    out[_ETA_END + 2] = qvel[5]
+    if has_cmd:
+        out[7], out[10], out[11] = u[0], mode, step
+        out[_ETA_END + 1], out[_ETA_END + 3] = u[1], u[2]
+    else:
+        out[7] = out[10] = out[11] = out[_ETA_END + 1] = out[_ETA_END + 3] = np.nan
+    return out
 
 
 def trial_soil(name: str, cfg: SRWMRConfig, seed: int):
@@ -205,8 +246,19 @@ class SRWMRTask(TaskBase):
         self.last_cmd = cmd
 
     def row(self, obs: Observation, cmd) -> np.ndarray:
-        """The stored columns (:data:`COLUMNS`) of this instant, filled slice by slice into one
-        array (the same numbers as a tuple of floats; no per-value conversion)."""
+        """The stored columns (:data:`COLUMNS`) of this instant, filled by one compiled kernel
+        (:func:`_row_kernel`; bitwise :meth:`row_reference`, tested)."""
+        d, t = self.data, self.soil_wheels.truth
+        if cmd is None:
+            u, ratios, mode, step, has = _NO_U, _NO_RATIOS, 0.0, 0.0, False
+        else:
+            u, ratios, mode, step, has = cmd.u, cmd.ratios, float(cmd.mode), float(getattr(cmd, "step", np.nan)), True
+        return _row_kernel(d.xpos[self.chassis], d.qvel, obs.rpy, obs.delta, t["slip"], t["sinkage"], t["Fn"],
+                           t["DP"], d.actuator_force, d.actuator_velocity, self.a_drive, obs.load,
+                           np.asarray(ratios, float), np.asarray(u, float), mode, step, has)
+
+    def row_reference(self, obs: Observation, cmd) -> np.ndarray:
+        """:meth:`row` filled slice by slice with numpy (the form the kernel must equal)."""
         d, t = self.data, self.soil_wheels.truth
         out = np.empty(_NC)
         p = d.xpos[self.chassis]

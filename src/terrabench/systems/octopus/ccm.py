@@ -156,7 +156,8 @@ class CCMController:
 
     def _toward(self, i: int, target: float) -> None:
         c = self.cmd.flip
-        c[i] += float(np.clip(target - c[i], -self.cfg.d_flip, self.cfg.d_flip))
+        d = self.cfg.d_flip
+        c[i] += min(max(target - c[i], -d), d)  # a scalar clip (np.clip on scalars cost ~60 % of the controller)
 
     def _approach(self, obs) -> None:
         cfg, c, p = self.cfg, self.cmd, obs.pitch

@@ -197,3 +197,17 @@ def test_swlm_front_lift_needs_the_com_shift_and_reaches_the_height():
     assert roll
     assert min(r[2][1] for r in roll) > 0.05  # the front-right bottom well above the soil
     assert max(r[3][1] for r in roll) < 5.0
+
+
+def test_com_shift_moves_the_middle_axle_ahead_of_the_hinge_only_upwards():
+    """The reason a rear wheel cannot be lifted here: a clutched side carries the chassis at its hinge;
+    a front lift needs the middle axle ahead of it (raising the chassis does that), a rear lift behind
+    it, which lowering reaches by a few millimetres at most."""
+    from terrabench.systems.srwmr.kinematics import delta_for_clearance
+
+    def x_mid(cl):
+        d = delta_for_clearance(CFG, cl)
+        return axle_positions(CFG, [d, d], level_zeta(CFG, [d, d]))[2, 0]
+
+    assert x_mid(legged.SHIFT["front"]) > 0.1
+    assert all(-0.005 < x_mid(cl) <= 0.001 for cl in np.linspace(0.15, 0.25, 11))

@@ -168,3 +168,30 @@ def test_compiled_log_row_equals_the_numpy_form_bitwise():
         obs, _ = ep.step(cmd)
     assert np.array_equal(task.row(obs, None), task.row_reference(obs, None), equal_nan=True)
     assert np.abs(task.row(obs, cmd)[COLUMNS.index("P_drive")]) > 0.0
+
+
+def test_compiled_supervisor_and_steering_checks_equal_the_numpy_expressions():
+    from terrabench.systems.srwmr.control import MONITORED
+    from terrabench.systems.srwmr.kinematics import steering_wait
+
+    rng = np.random.default_rng(15)
+    halts = waits = 0
+    for i in range(3000):
+        r, kappa = rng.uniform(0.0, 1.3, 10), np.array(mc.THRESHOLDS[mc.MODES[i % len(mc.MODES)]])
+        if i % 7 == 0:
+            r[rng.integers(10)] = np.nan
+        over = np.where(MONITORED, r / kappa, 0.0)
+        ref = int(np.argmax(over)) if (over >= 1.0).any() else -1
+        assert mc.halting_ratio(r, kappa, MONITORED) == ref
+        halts += ref >= 0
+        mu = rng.uniform(-1.0, 1.0, 6)
+        meas = mu + rng.normal(0.0, 0.1, 6)
+        u = rng.uniform(-0.05, 0.05, 5) * (rng.uniform(size=5) < 0.4)
+        if i % 9 == 0:
+            meas[rng.integers(6)] = np.nan
+        if i % 11 == 0:
+            u[rng.integers(3)] = np.nan
+        ref_wait = bool(np.abs(mu - meas).max() > 0.15 and (np.abs(u[:3]) > 0).any())
+        assert steering_wait(mu, meas, u, 0.15) == ref_wait
+        waits += ref_wait
+    assert 0 < halts < 3000 and 0 < waits < 3000

@@ -256,3 +256,30 @@ def period_ratios_reference(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta
     r[7] = eta_roll_rate(dz * u[3:5], sc)
     r[8], r[9] = load_ratios(load, sc)
     return r
+
+
+@numba.njit(cache=True)
+def _halting_kernel(ratios, kappa, monitored):
+    n = ratios.shape[0]
+    over = np.zeros(n)
+    hit = False
+    for i in range(n):
+        if monitored[i]:
+            over[i] = ratios[i] / kappa[i]
+            hit = hit or over[i] >= 1.0
+    if not hit:
+        return -1
+    best = 0
+    for i in range(n):  # numpy's argmax: the first NaN, else the first maximum
+        if math.isnan(over[i]):
+            return i
+        if over[i] > over[best]:
+            best = i
+    return best
+
+
+def halting_ratio(ratios: np.ndarray, kappa: np.ndarray, monitored: np.ndarray) -> int:
+    """Index of the monitored ratio the supervisor halts on (the largest ``ratio / kappa`` when
+    one reaches 1), -1 when none does: ``np.argmax(np.where(monitored, ratios / kappa, 0))`` if
+    any is >= 1, compiled (tested against that expression)."""
+    return int(_halting_kernel(ratios, kappa, monitored))

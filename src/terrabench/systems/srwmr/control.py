@@ -41,6 +41,7 @@ from terrabench.systems.srwmr.kinematics import (
     differential_kinematics,
     inverse_kinematics,
     period_geometry,
+    steering_wait,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
@@ -356,9 +357,8 @@ class RoverController:
             ratios[2] = mc.eta_roll(np.array([self.robot.hinge_track * math.sin(float(obs.rpy[0])), 0.0]), self.sc)
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
-        over = np.where(MONITORED, ratios / kappa, 0.0)
-        if (over >= 1.0).any():
-            i = int(np.argmax(over))
+        i = mc.halting_ratio(ratios, kappa, MONITORED)  # the largest ratio / kappa >= 1, or -1
+        if i >= 0:
             return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
         return self._command(obs, u, steer_only=steer_only, lifted=lifted, ratios=ratios)
 
@@ -593,8 +593,7 @@ class RoverController:
             spin = spin + self._hold_still(obs, idx)
             self._rolling = None
         # a wheel whose steering is far from its target waits (no rolling against its heading)
-        err = np.abs(mu - obs.mu)
-        if err.max() > 0.15 and (np.abs(u[:3]) > 0).any():
+        if steering_wait(mu, obs.mu, u, 0.15):
             spin = spin * 0.0
         self.mu_cmd = mu
         self.target = self.target + u[3:5] * ts

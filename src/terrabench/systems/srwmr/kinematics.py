@@ -406,6 +406,24 @@ def _steer_fold_kernel(ang, speed, mu_prev, r, v_min, hyst):
     return out
 
 
+@numba.njit(cache=True)
+def _steering_wait_kernel(mu, mu_meas, u, tol):
+    m = 0.0
+    for i in range(mu.shape[0]):
+        e = abs(mu[i] - mu_meas[i])
+        if math.isnan(e):
+            return False  # numpy's max of an array with a NaN is NaN, and NaN > tol is False
+        m = max(m, e)
+    return m > tol and (abs(u[0]) > 0.0 or abs(u[1]) > 0.0 or abs(u[2]) > 0.0)
+
+
+def steering_wait(mu, mu_meas, u, tol: float = 0.15) -> bool:
+    """Whether the wheels wait for their steering: a steering angle is more than ``tol`` (rad)
+    from its target ``mu`` while the body moves (``u[:3]`` not zero); compiled
+    ``np.abs(mu - mu_meas).max() > tol and (np.abs(u[:3]) > 0).any()`` (tested against it)."""
+    return bool(_steering_wait_kernel(np.asarray(mu, float), np.asarray(mu_meas, float), np.asarray(u, float), tol))
+
+
 def inverse_kinematics(cfg: RobotConfig, u, delta, mu_prev=None, mu_rate=None, lifted=(), geom=None):
     """Steering angles (6,) and spin rates (6,) (rad/s) for ``u``; lifted wheels get 0 spin.
 

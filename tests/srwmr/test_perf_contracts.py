@@ -195,3 +195,24 @@ def test_compiled_supervisor_and_steering_checks_equal_the_numpy_expressions():
         assert steering_wait(mu, meas, u, 0.15) == ref_wait
         waits += ref_wait
     assert 0 < halts < 3000 and 0 < waits < 3000
+
+
+def test_compiled_power_equals_numpy_sum_bitwise():
+    from terrabench.systems.srwmr.task import _abs_power_kernel
+
+    rng = np.random.default_rng(16)
+    for _ in range(3000):
+        n = int(rng.integers(1, 129))  # numpy's two regimes the kernel covers: < 8, <= 128
+        f, v = rng.normal(size=n) * 10 ** rng.uniform(-3, 3, n), rng.normal(size=n)
+        assert _abs_power_kernel(f, v) == np.abs(f * v).sum()
+    spec = SYSTEM.plan(methods=["wrm"], instances=["t1-loose"], overrides={"protocol.timeout": 1.0})[0]
+    cfg = SYSTEM.load_config(spec.config)
+    task = SYSTEM.make_task(spec, cfg)
+    ctl = SYSTEM.make_controller(spec, cfg, task)
+    ep = Episode(task)
+    obs, _ = ep.begin()
+    for _ in range(30):
+        obs, _ = ep.step(ctl(obs))
+    d = task.data
+    ref = float(np.abs(d.actuator_force * d.actuator_velocity).sum())
+    assert ref > 0.0 and task.power(obs) == ref

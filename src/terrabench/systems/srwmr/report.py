@@ -229,29 +229,36 @@ def _robot(rows):
         return RobotConfig()
 
 
+def _task_sections(page: Any, store: Any, task_rows: list[dict[str, Any]], slug: str, plt: Any, robot: Any) -> None:
+    """The paper's tasks of one settings group: the summary table, T14 and every task's own sections."""
+    lines = task_lines(task_rows)
+    page.h2("Tasks: ours beside the paper")
+    page.table(lines, list(lines[0]) if lines else ["task"], csv_name=f"tasks{slug}.csv")
+    t14 = t14_lines(task_rows)
+    if any(ln["n"] for ln in t14):
+        page.h2("T14: the obstacle task per mode")
+        page.table(t14, list(t14[0]), csv_name=f"t14{slug}.csv")
+        ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
+        page.p(
+            "energy ordering, ours (least first): "
+            + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
+            + "; paper: swlm < rclm < wcm < wrm"
+        )
+    from terrabench.systems.srwmr.report_tasks import add_sections
+
+    add_sections(page, store, task_rows, slug, plt, robot)
+    from terrabench.systems.srwmr.legged import report_sections
+
+    report_sections(page, store, task_rows, slug, plt)  # SWLM / DWLM: T6, T7, T12, T13, T14
+
+
 def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any) -> None:
     """The tables, series and timelines of one settings group (file names end in ``slug``)."""
     from terrabench.report.timeline import draw_timelines
 
     task_rows = [r for r in rows if not r["instance"].startswith("slope-")]
-    lines = task_lines(task_rows)
-    page.h2("Tasks: ours beside the paper")
-    page.table(lines, list(lines[0]) if lines else ["task"], csv_name=f"tasks{slug}.csv")
-    page.h2("T14: the obstacle task per mode")
-    t14 = t14_lines(rows)
-    page.table(t14, list(t14[0]), csv_name=f"t14{slug}.csv")
-    ours = [(ln["mode"], ln["energy kJ"]) for ln in t14 if math.isfinite(ln["energy kJ"])]
-    page.p(
-        "energy ordering, ours (least first): "
-        + " < ".join(m for m, _ in sorted(ours, key=lambda x: x[1]))
-        + "; paper: swlm < rclm < wcm < wrm"
-    )
-    from terrabench.systems.srwmr.report_tasks import add_sections
-
-    add_sections(page, store, task_rows, slug, plt, _robot(rows))
-    from terrabench.systems.srwmr.legged import report_sections
-
-    report_sections(page, store, task_rows, slug, plt)  # SWLM / DWLM: T6, T7, T12, T13, T14
+    if task_rows:  # a settings group may hold only slope trials (e.g. a --timeout run of the sweep)
+        _task_sections(page, store, task_rows, slug, plt, _robot(rows))
     page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
     qp = [
         {

@@ -128,3 +128,28 @@ def test_cli_render_bad_input_is_one_line(args, match, tmp_path):
     assert r.exit_code == 2 and match in r.output
     r = CliRunner().invoke(app, ["render", "nosys", "--terrain", "A-01", "--out", str(tmp_path / "x.mp4")])
     assert r.exit_code == 2 and "nosys" in r.output
+
+
+def test_page_clip_cuts_the_episode_and_shows_a_video(tmp_path, monkeypatch):
+    from terrabench.report import render as render_mod
+    from terrabench.report.page import Page, cut_at
+
+    long = spec(timeout=50.0)
+    short = cut_at(SYSTEM, long, 0.5)
+    assert short.config["protocol"]["timeout"] == 0.5 and long.config["protocol"]["timeout"] == 50.0
+    assert cut_at(SYSTEM, spec(timeout=0.2), 0.5).config["protocol"]["timeout"] == 0.2  # never longer
+    page = Page(tmp_path, "clip")
+    assert page.clip("c.mp4", "a clip", SYSTEM, long, 0.5, every=10, width=W, height=H)
+    text = page.finish().read_text()
+    assert "<video src='c.mp4'" in text and "a clip" in text
+    # 0.5 s at the 25 ms control period, a frame every 10 periods: at 0 and 0.25 s (not 50 s of them)
+    assert long.config["protocol"]["control_period"] == 0.025
+    assert len(decode(tmp_path / "c.mp4")) == 2
+
+    def no_gl(width, height):
+        raise render_mod.GLUnavailable("no headless OpenGL context could be created (egl: test)")
+
+    monkeypatch.setattr(render_mod, "_gl_context", no_gl)
+    page = Page(tmp_path / "nogl", "clip")
+    assert page.clip("c.mp4", "a clip", SYSTEM, long, 0.5, every=10, width=W, height=H) is False
+    assert "Clip skipped: no headless OpenGL" in page.finish().read_text()

@@ -170,6 +170,29 @@ class Page:
         self.image(name, caption)
         return True
 
+    def clip(self, name: str, caption: str, system: Any, spec: Any, seconds: float, *, every: int,
+             fps: float = 25.0, **kwargs: Any) -> bool:
+        """Render the first ``seconds`` simulated seconds of ``spec``'s episode as the ``.mp4`` clip
+        ``name`` (a frame every ``every`` control periods, played at ``fps``) and show it with
+        ``caption`` (:func:`terrabench.report.render.render_trial`; ``kwargs``: width, height,
+        overlay, track). The episode is cut at ``seconds`` through the system's ``timeout_key``.
+        Without headless GL, or for a stored config this version cannot run, one note instead
+        (as :meth:`snapshots`); returns whether it rendered."""
+        from terrabench.report.render import GLUnavailable, render_trial
+
+        try:
+            render_trial(system, cut_at(system, spec, seconds), self.out_dir / name, fps=fps, every=every, **kwargs)
+        except GLUnavailable as exc:
+            self.note(f"Clip skipped: {exc}. Set MUJOCO_GL=egl (Mesa) or MUJOCO_GL=osmesa (libosmesa6).")
+            return False
+        except ValueError as exc:
+            self.note(f"Clip skipped: the stored trial cannot be re-run by this version ({exc}).")
+            return False
+        self.written.add(name)
+        self.raw(f"<figure><video src='{name}' controls muted loop preload='metadata' style='max-width:100%'>"
+                 f"</video><figcaption>{caption} (<a href='{name}'>{name}</a>)</figcaption></figure>")
+        return True
+
     def keep(self, name: str) -> Path:
         """Claim a file the caller writes itself (e.g. a clip); returns its path."""
         self.written.add(name)
@@ -261,3 +284,21 @@ def _ranges(values: Sequence[int]) -> str:
         else:
             out.append(str(v))
     return ", ".join(out) or "none"
+
+
+def cut_at(system: Any, spec: Any, seconds: float) -> Any:
+    """``spec`` with its simulated time limit (the system's ``timeout_key``) at most ``seconds``."""
+    import copy
+    import dataclasses
+
+    key = getattr(system, "timeout_key", None)
+    if key is None:
+        return spec
+    config = copy.deepcopy(dict(spec.config))
+    node = config
+    *path, last = key.split(".")
+    for part in path:
+        node = node.setdefault(part, {})
+    now = node.get(last)
+    node[last] = float(seconds) if now is None else min(float(now), float(seconds))
+    return dataclasses.replace(spec, config=config)

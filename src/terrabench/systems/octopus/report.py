@@ -332,6 +332,35 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
                        html.escape("t = " + ", ".join(f"{t:.1f}" for t in times)
                                    + " s: walking, step detected (climb starts), mid-lift, release, the end"),
                        system, spec, times, width=320, height=240, track="chassis")
+    _clips(page, system, rows)
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
     return page.finish()
+
+
+#: the paper's tasks that get a clip, with the mode shown (CLM everywhere; CCM where it fails the paper's way)
+CLIP_TASKS = (("step-400", "clm"), ("step-400", "ccm"), ("terrace2-front", "clm"), ("terrace2-side", "clm"),
+              ("block-500", "clm"))
+
+
+def _clips(page: Any, system: Any, rows: list[dict[str, Any]]) -> None:
+    """A clip of the first stored seed of each paper task (:data:`CLIP_TASKS`), re-run from its
+    stored config: the whole trial, a frame every 0.2 simulated s at 25 fps (5x real time), from
+    the task's own camera (the side camera on step tasks)."""
+    from terrabench.benchmark.trial import TrialSpec
+
+    shown = False
+    for inst, meth in CLIP_TASKS:
+        rs = sorted((r for r in rows if r["instance"] == inst and r["method"] == meth), key=lambda r: r["seed"])
+        if not rs:
+            continue
+        if not shown:
+            page.h2("Clips of the paper's tasks (5x real time)")
+            shown = True
+        r = rs[0]
+        spec = TrialSpec("octopus", r["scenario"], meth, inst, r["seed"], r["config"])
+        span = float(r["metrics"].get("sim_time", 0.0) or 0.0) or 90.0
+        page.clip(f"clip_{inst}_{meth}.mp4",
+                  html.escape(f"{meth.upper()} on {inst} (seed {r['seed']}, stored status {r['status']}), "
+                              f"0-{span:.0f} s"),
+                  system, spec, span + 0.5, every=10, width=480, height=360, track="chassis")

@@ -193,6 +193,9 @@ def write_report(store, out_dir: Path, system: Any) -> Path:
 
 #: at most this much of each mode's first trial is re-run for its snapshots (s, simulated)
 SNAPSHOT_SPAN = 30.0
+#: simulated seconds of each mode's clip in the report (a frame every 0.4 s, played at 25 fps: 10x real time;
+#: software GL renders the soil scene at ~0.1-0.3 s a frame, so the clips are kept short)
+CLIP_SPAN = 60.0
 
 
 def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) -> None:
@@ -216,6 +219,9 @@ def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) ->
                        f"{', '.join(f'{t:g}' for t in times)} s, re-run from the stored config "
                        "(<code>terrabench render srwmr</code> makes a clip)",
                        system, spec, times, width=320, height=240)
+        page.clip(f"clip_{meth}{slug}.mp4",
+                  f"{meth.upper()} on {r['instance']} (seed {r['seed']}), the first {CLIP_SPAN:g} s at 10x real time",
+                  system, spec, CLIP_SPAN, every=40, width=320, height=240)
 
 
 def _robot(rows):

@@ -58,7 +58,7 @@ def test_compiled_inverse_kinematics_equals_the_numpy_form_bitwise():
     assert n_fold > 50  # the fold branch was exercised
 
 
-def test_compiled_qp_rows_equal_build_qp_bitwise_and_place_u_nom_alike():
+def test_compiled_qp_rows_equal_the_row_by_row_reference_bitwise_and_place_u_nom_alike():
     rng = np.random.default_rng(13)
     lim, sc = IKLimits(), mc.Scales()
     ik = SaturatedIK(CFG, lim, sc, 0.01)
@@ -69,7 +69,7 @@ def test_compiled_qp_rows_equal_build_qp_bitwise_and_place_u_nom_alike():
         mode = mc.MODES[i % len(mc.MODES)]
         kappa = mc.qp_thresholds(mode) if i % 3 == 0 else mc.thresholds(mode)
         (_, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
-        ref = build_qp(CFG, IKState(d, u), kappa, sc, lim, 0.01, J, wb, dz)
+        ref = build_qp_reference(CFG, IKState(d, u), kappa, sc, lim, 0.01, J, wb)
         fast = (np.full((16, 5), np.nan), np.full(16, np.nan), np.full(5, np.nan), np.full(5, np.nan))
         where = _qp_kernel(J, d, wb, dz, kappa, u, u_nom, ik._consts, *fast)
         assert all(np.array_equal(a, b) for a, b in zip(ref, fast))

@@ -25,7 +25,7 @@ import qpsolvers
 
 from terrabench.config import check_fields, param
 from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.kinematics import rocker_jacobian, wheelbase_front_middle
+from terrabench.systems.srwmr.kinematics import hinge_rise, rocker_jacobian, wheelbase_front_middle
 from terrabench.systems.srwmr.robot import RobotConfig
 
 N_U = 5
@@ -75,7 +75,7 @@ def build_qp_reference(
     wb: np.ndarray | None = None,
 ):
     """(G, h, lb, ub) of one control step, written row by row (the specification of
-    :func:`build_qp`, which must equal it bitwise; tested). Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4,
+    :func:`_qp_kernel`, which must equal it bitwise; tested). Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4,
     MC7 x2, MC8 x2, MC9 x2."""
     d = st.delta
     J = rocker_jacobian(cfg, d) if J is None else J
@@ -127,17 +127,6 @@ def build_qp_reference(
     return G, h, lb, ub
 
 
-#: flat indices into G (16 x 5) of the entries :func:`build_qp` writes, in its order
-_G_IDX = np.array([
-    0 * N_U + 3, 1 * N_U + 4,  # MC3
-    2 * N_U + 3, 2 * N_U + 4, 3 * N_U + 3, 3 * N_U + 4,  # MC4
-    4 * N_U + 3, 4 * N_U + 4, 5 * N_U + 3, 5 * N_U + 4,  # MC5
-    6 * N_U + 3, 7 * N_U + 3, 8 * N_U + 4, 9 * N_U + 4,  # MC6
-    10 * N_U + 0, 11 * N_U + 0, 12 * N_U + 2, 13 * N_U + 2,  # MC7, MC8
-    14 * N_U + 3, 14 * N_U + 4, 15 * N_U + 3, 15 * N_U + 4,  # MC9
-])
-
-
 def build_qp(
     cfg: RobotConfig,
     st: IKState,
@@ -149,68 +138,33 @@ def build_qp(
     wb: np.ndarray | None = None,
     dz: np.ndarray | None = None,
 ):
-    """(G, h, lb, ub) of one control step: the linearised MC#3-#9 rows (see the module docstring
-    and :func:`build_qp_reference`, its row-by-row form, which this equals bitwise) from plain
-    floats, G and h filled by one indexed write each. ``J``, ``wb``, ``dz``: the rocker Jacobian,
-    front-middle wheelbases and hinge rise at ``st.delta`` if the caller already has them."""
-    d = st.delta
+    """(G, h, lb, ub) of one control step: the linearised MC#3-#9 rows (see the module docstring),
+    computed by :func:`_qp_kernel` into fresh arrays (bitwise :func:`build_qp_reference`, tested).
+    ``J``, ``wb``, ``dz``: the rocker Jacobian, front-middle wheelbases and hinge rise at
+    ``st.delta`` if the caller already has them."""
+    d = np.asarray(st.delta, float)
     J = rocker_jacobian(cfg, d) if J is None else J
-    wb0 = cfg.front_len
     wb = wheelbase_front_middle(cfg, d) if wb is None else wb
-    (j00, _, j02), (j10, _, j12), (j20, _, j22), (j30, _, j32), (_, _, j42), (_, _, j52) = J.tolist()
-    dwb0, dwb1 = j00 - j20, j10 - j30
-    if dz is None:
-        dz0, dz1 = -(j02 + j22 + j42) / 3, -(j12 + j32 + j52) / 3
-    else:
-        dz0, dz1 = float(dz[0]), float(dz[1])
-    d0, d1 = float(d[0]), float(d[1])
-    wbl, wbr = float(wb[0]), float(wb[1])
-    k3, k4, k5, k6, k7, k8, k9 = (float(kappa[i]) for i in range(1, 8))
-    big = 1e6
-    fin = math.isfinite
-    u0, u2 = float(st.u_prev[0]), float(st.u_prev[2])
-    half = cfg.track / 2
-    hl, hr = dz0 * d0, dz1 * d1
-    lim6l = k6 * max(abs(u0 - u2 * half), sc.v_floor) if fin(k6) else big
-    lim6r = k6 * max(abs(u0 + u2 * half), sc.v_floor) if fin(k6) else big
-    lim7 = k7 * max(abs(u0), sc.v_floor) if fin(k7) else big
-    lim8 = k8 * max(abs(u2), sc.w_floor) if fin(k8) else big
-    lim9 = k9 * sc.vz9 if fin(k9) else big
-    G = np.zeros((N_INEQ, N_U))
-    G.flat[_G_IDX] = (
-        -dwb0 * ts / wb0, -dwb1 * ts / wb0,
-        dz0 * ts, -dz1 * ts, -dz0 * ts, dz1 * ts,  # (sign x) * ts, signs exact
-        dwb0 * ts, -dwb1 * ts, -dwb0 * ts, dwb1 * ts,
-        j00, -j00, j10, -j10,
-        1.0, -1.0, 1.0, -1.0,
-        dz0, -dz1, -dz0, dz1,
-    )
-    h = np.array((
-        (k3 - (wb0 - wbl) / wb0) if fin(k3) else big,
-        (k3 - (wb0 - wbr) / wb0) if fin(k3) else big,
-        (k4 * sc.dh - (hl - hr)) if fin(k4) else big,
-        (k4 * sc.dh + (hl - hr)) if fin(k4) else big,
-        (k5 * sc.dd - (wbl - wbr)) if fin(k5) else big,
-        (k5 * sc.dd + (wbl - wbr)) if fin(k5) else big,
-        lim6l, lim6l, lim6r, lim6r,
-        u0 + lim7, -u0 + lim7, u2 + lim8, -u2 + lim8,
-        lim9, lim9,
-    ))
-    lo, hi = lim.delta_range
-    rl, rr = (lo - d0) / ts, (lo - d1) / ts
-    ql, qr = (hi - d0) / ts, (hi - d1) / ts
-    rm = lim.rate_max
-    lb = np.array((-lim.v_max, -lim.v_max, -lim.w_max, max(-rm, rl), max(-rm, rr)))
-    ub = np.array((lim.v_max, lim.v_max, lim.w_max, min(rm, ql), min(rm, qr)))
-    return G, h, lb, ub
+    dz = hinge_rise(J) if dz is None else dz
+    out = np.zeros((N_INEQ, N_U)), np.zeros(N_INEQ), np.zeros(N_U), np.zeros(N_U)
+    u_prev = np.asarray(st.u_prev, float)
+    _qp_kernel(np.asarray(J, float), d, np.asarray(wb, float), np.asarray(dz, float), np.asarray(kappa, float),
+               u_prev, u_prev, kernel_consts(cfg, sc, lim, ts), *out)
+    return out
+
+
+def kernel_consts(cfg: RobotConfig, sc: mc.Scales, lim: IKLimits, ts: float) -> np.ndarray:
+    """The scalars :func:`_qp_kernel` reads after ``u_nom`` (its ``k``), in its order."""
+    return np.array((cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+                     lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1]), float)
 
 
 @numba.njit(cache=True)
 def _qp_kernel(J, d, wb, dz, kappa, u_prev, u_nom, k, G, h, lb, ub):
-    """:func:`build_qp` compiled (the same expressions in the same order: bitwise the same G, h,
-    lb, ub; tested), written into the buffers ``G``, ``h``, ``lb``, ``ub``, and where ``u_nom``
-    lies: 0 the bounds are empty (infeasible), 1 inside the set (the QP's own optimum), 2 outside
-    (the solver is needed). ``k``: the scalars of :attr:`SaturatedIK._consts`."""
+    """:func:`build_qp_reference`'s rows compiled (bitwise the same G, h, lb, ub; tested), written
+    into the buffers ``G``, ``h``, ``lb``, ``ub``, and where ``u_nom`` lies: 0 the bounds are empty
+    (infeasible), 1 inside the set (the QP's own optimum), 2 outside
+    (the solver is needed). ``k``: :func:`kernel_consts`."""
     d0, d1, wbl, wbr, dz0, dz1, u0, u2 = d[0], d[1], wb[0], wb[1], dz[0], dz[1], u_prev[0], u_prev[2]
     wb0, half, ts, dh, dd, v_floor, w_floor, vz9 = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7]
     v_max, w_max, rate_max, lo, hi = k[8], k[9], k[10], k[11], k[12]
@@ -266,9 +220,7 @@ class SaturatedIK:
     def __init__(self, cfg: RobotConfig, lim: IKLimits, sc: mc.Scales, ts: float, solver: str = "daqp"):
         self.cfg, self.lim, self.sc, self.ts, self.solver = cfg, lim, sc, ts, solver
         self.P = np.diag(np.asarray(lim.weights, float))
-        # the scalars :func:`_qp_kernel` reads after u_nom, in its order
-        self._consts = np.array((cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
-                                 lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1]), float)
+        self._consts = kernel_consts(cfg, sc, lim, ts)
         self._G, self._h, self._lb, self._ub = np.zeros((N_INEQ, N_U)), np.zeros(N_INEQ), np.zeros(N_U), np.zeros(N_U)
         self.times: list[float] = []
         self.active = 0  # steps where the projection changed the command

@@ -12,6 +12,7 @@ import time
 from collections import deque
 from typing import Any
 
+from terrabench import portable
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.benchmark.worker import default_workers, execute
 from terrabench.benchmark.worker import fault_result as _fault_result
@@ -49,6 +50,8 @@ def run_ray(todo: list[TrialSpec], land, workers: int | None, address: str | Non
         if address:
             _check_reachable(address)
         kwargs = {"address": address} if address else {"num_cpus": workers or default_workers()}
+        if portable.wanted():  # every node's workers start on the same CPU code paths
+            kwargs["runtime_env"] = {"env_vars": portable.pins()}
         try:
             ray.init(ignore_reinit_error=True, log_to_driver=False, include_dashboard=False, **kwargs)
         except (ConnectionError, TimeoutError, RuntimeError) as exc:

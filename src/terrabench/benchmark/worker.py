@@ -38,16 +38,17 @@ def execute(spec: TrialSpec) -> TrialResult:
 def host_fingerprint() -> dict[str, Any]:
     """What besides the spec decides a trial's last bits: library versions and the CPU paths.
 
-    A trial is a deterministic function of its spec *on one kind of machine*. numpy picks SIMD
-    kernels at run time: on a CPU with AVX-512, ``np.arctan2`` (the chains' headings) differs
-    from the scalar libm result in the last bit on ~7 % of inputs, and on a chaotic terrain a
-    last-bit difference grows to metres within a minute (docs/performance.md). Stored with
-    every row so that two stores can be compared knowing whether they can agree bitwise.
+    numpy, OpenBLAS, numba and glibc's libm pick machine code by CPU feature at run time; a trial
+    process started pinned (:mod:`terrabench.portable`: ``pinned`` true) runs the same code on
+    every x86-64 CPU, so its rows agree bitwise with any other pinned host of the same library
+    versions. Stored with every row, so two stores can be compared knowing whether they can.
     """
     import platform
 
     import mujoco
     import numpy as np
+
+    from terrabench import portable
 
     try:
         from numpy._core import _multiarray_umath as um  # numpy >= 2
@@ -56,7 +57,8 @@ def host_fingerprint() -> dict[str, Any]:
     features = getattr(um, "__cpu_features__", {})
     simd = [f for f in getattr(um, "__cpu_dispatch__", []) if features.get(f)]
     return {"machine": platform.machine(), "python": platform.python_version(), "numpy": np.__version__,
-            "mujoco": mujoco.__version__, "numpy_simd": simd}
+            "mujoco": mujoco.__version__, "libc": "-".join(platform.libc_ver()), "numpy_simd": simd,
+            **portable.state()}
 
 
 def default_workers() -> int:

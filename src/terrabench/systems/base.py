@@ -160,6 +160,9 @@ class System:
             '' = shown as the ids' shapes with digits as N.
         smoke: keyword arguments of :meth:`plan` for a request that runs in seconds (the
             contract test in ``tests/test_contract.py`` runs it for every registered system).
+        golden: plan requests (keyword arguments of :meth:`plan`) of a few short trials whose
+            stored bits are pinned and must not depend on the CPU (:mod:`terrabench.benchmark.golden`;
+            ``tests/test_portable_bits.py`` requires them of every registered system).
     """
 
     id: ClassVar[str] = ""
@@ -176,6 +179,7 @@ class System:
     instance_format: ClassVar[str] = ""
     status_notes: ClassVar[Mapping[str, str]] = {}
     smoke: ClassVar[Mapping[str, Any]] = {}
+    golden: ClassVar[tuple[Mapping[str, Any], ...]] = ()
 
     # ------------------------------------------------------------------ scenarios (override)
     def methods(self) -> dict[str, MethodInfo]:

@@ -32,6 +32,9 @@ class BeamsSystem(System):
     timeout_key = "protocol.timeout"
     headline_metrics = ()
     smoke = {"methods": ["open-loop"], "instances": ["flimsy-f0.1"]}
+    golden = ({"methods": ["estimate-3"], "instances": ["sigma20-ts100"]},
+              {"methods": ["interact"], "instances": ["flimsy"]},
+              {"methods": ["mujoco"], "instances": ["roll0-pitch20"]})
 
     def methods(self) -> dict[str, MethodInfo]:
         return {m: MethodInfo(m, text, ("beams",) + _sc.METHOD_GROUP[m]) for m, text in _sc.METHODS.items()}

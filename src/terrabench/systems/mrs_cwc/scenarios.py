@@ -39,6 +39,8 @@ class MRSCWCSystem(System):
     env_ids = ("terrabench/MRSCWC-v1",)
     perf_instances = ("B-05", "B-15", "B-25", "B-35", "B-45")
     smoke = {"methods": ["cwc-tdt"], "instances": ["A-01"], "overrides": {"protocol.timeout": 1.0}}
+    golden = ({"methods": ["cwc-tdt"], "instances": ["B-01"], "overrides": {"protocol.timeout": 8.0}},
+              {"methods": ["d-astar"], "instances": ["A-02"], "overrides": {"protocol.timeout": 4.0}})
 
     def methods(self) -> dict[str, MethodInfo]:
         return {m.id: MethodInfo(m.id, f"{m.label}: {m.summary}",

@@ -45,6 +45,7 @@ class OctopusSystem(System):
     perf_instances = ("step-400", "block-500")
     env_ids = ("terrabench/Octopus-v1",)
     smoke = {"methods": ["clm"], "instances": ["step-400"], "overrides": {"protocol.timeout": 2.0}}
+    golden = ({"methods": ["clm", "ccm"], "instances": ["step-400"], "overrides": {"protocol.timeout": 4.0}},)
 
     def methods(self) -> dict[str, MethodInfo]:
         return dict(METHODS)

@@ -81,6 +81,9 @@ class SoilSystem(System):
     perf_instances = ("mars_soft/W100/s0.20",)
     smoke = {"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"],
              "overrides": {"rig.settle_s": 0.3, "rig.average_s": 0.1}}
+    golden = ({"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"],
+               "overrides": {"rig.settle_s": 0.5, "rig.average_s": 0.3}},
+              {"methods": ["cmu-fit-b0"], "instances": ["cmu/b0/t029"]})
 
     def methods(self) -> dict[str, MethodInfo]:
         return {"rig": MethodInfo("rig", "MuJoCo single-wheel rig, soil forces in the per-substep hook", ("mujoco",)),

@@ -62,6 +62,8 @@ class SRWMRSystem(System):
     realtime_factor = 10.0  # `terrabench perf srwmr`: 10-12x real time per core (docs/srwmr.md)
     env_ids = ("terrabench/SRWMR-v1",)
     smoke = {"methods": ["wrm"], "instances": ["t1-loose"], "overrides": {"protocol.timeout": 3.0}}
+    golden = ({"methods": ["wrm"], "instances": ["t1-loose"], "overrides": {"protocol.timeout": 4.0}},
+              {"methods": ["rcm"], "instances": ["t4-sinkage"], "overrides": {"protocol.timeout": 4.0}})
 
     def methods(self) -> dict[str, MethodInfo]:
         return dict(METHODS)

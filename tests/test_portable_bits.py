@@ -55,8 +55,10 @@ print(json.dumps({"probe": out, "host": host_fingerprint()}))
 
 
 def _env(extra: dict[str, str], *, native: bool = False) -> dict[str, str]:
-    env = {k: v for k, v in os.environ.items() if k != "TERRABENCH_PINNED"}
-    env.pop("TERRABENCH_NATIVE_CPU", None)
+    """This process's environment without the pins (the suite itself runs pinned), plus ``extra``."""
+    from terrabench import portable
+
+    env = {k: v for k, v in os.environ.items() if k not in portable.pins() and k != portable.NATIVE_ENV}
     env.update(extra)
     if native:
         env["TERRABENCH_NATIVE_CPU"] = "1"

@@ -139,6 +139,9 @@ def test_ray_backend_gives_identical_results(tmp_path):
         ra = {r["key"]: (r["status"], r["metrics"]) for r in a.rows()}
         rb = {r["key"]: (r["status"], r["metrics"]) for r in b.rows()}
         np.testing.assert_equal(ra, rb)
+        for r in list(a.rows()) + list(b.rows()):  # both backends ran on the pinned CPU paths
+            host = r["info"]["host"]
+            assert host["pinned"] is True and host["numpy_simd"] == [] and host["numba_cpu_name"] == "generic"
         for key in ra:
             ta, tb = a.timeseries(key), b.timeseries(key)
             for col in ta:

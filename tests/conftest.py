@@ -2,10 +2,9 @@ import os
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-from terrabench import portable  # noqa: E402
-
 import pytest  # noqa: E402
 
+from terrabench import portable  # noqa: E402
 from terrabench.terrain.dataset import Terrain  # noqa: E402
 from terrabench.terrain.sine_sum import SineSumParams  # noqa: E402
 

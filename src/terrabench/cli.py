@@ -17,6 +17,8 @@ import typer
 from rich.console import Console
 from rich.markup import escape as rich_escape
 
+from terrabench import portable
+
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Robots that cross unknown rough terrain by touching it.")
 terrain_app = typer.Typer(no_args_is_help=True, help="Inspect benchmark terrains.")
@@ -25,6 +27,9 @@ console = Console()
 err_console = Console(stderr=True)
 
 DEFAULT_STORE = Path("results") / "terrabench.duckdb"
+#: Commands that run trials (a report re-runs stored trials for its clips): they re-execute under
+#: the CPU-path pins of :mod:`terrabench.portable`, so their bits do not depend on the CPU.
+SIMULATING_COMMANDS = ("run", "perf", "render", "report")
 
 #: ``terrabench --debug``: bad input also prints its traceback (e.g. a system that fails to import)
 DEBUG = {"on": False}
@@ -45,14 +50,34 @@ def friendly(fn: Callable) -> Callable:
 
     return wrapper
 
-def _split(value: Optional[str], flag: str = "") -> Optional[list[str]]:
-    """``"a,b"`` -> ``["a", "b"]``; None stays None; an empty list is bad input, not 'all'."""
+def _split(value: Optional[str], flag: str = "", valid: Optional[Callable[[], str]] = None) -> Optional[list[str]]:
+    """``"a,b"`` -> ``["a", "b"]``; None stays None; an empty list is bad input, not 'all', and so
+    is an empty item (``"a,,b"``, ``"a,"``): refused, not dropped. ``valid()`` gives the valid ids."""
     if value is None:
         return None
-    items = [v.strip() for v in value.split(",") if v.strip()]
-    if not items:
-        raise ValueError(f"{flag or 'a list option'} was given an empty list ({value!r}); name at least one id")
+    items = [v.strip() for v in value.split(",")]
+    choices = f"; valid: {valid()}" if valid is not None else ""
+    if not any(items):
+        raise ValueError(f"{flag or 'a list option'} was given an empty list ({value!r}); name at least one id"
+                         + choices)
+    if not all(items):
+        raise ValueError(f"{flag or 'a list option'} {value!r} has an empty item (ids are separated by single "
+                         f"commas){choices}")
     return items
+
+
+def _valid_methods(sysobj) -> Callable[[], str]:
+    return lambda: ", ".join(list(sysobj.methods()) + ["all"])
+
+
+def _valid_instances(sysobj) -> Callable[[], str]:
+    def text() -> str:
+        from terrabench.benchmark.plan import choices_text
+        from terrabench.describe import instances_of
+
+        return choices_text(instances_of(sysobj, None), sysobj.id)
+
+    return text
 
 def _limit_overrides(sysobj, overrides: dict, *, timeout: Optional[float] = None,
                      threshold: Optional[float] = None) -> dict:
@@ -145,6 +170,16 @@ def list_cmd(
     for err in load_failures().values():
         raise err
 
+@app.command("pins")
+def pins_cmd() -> None:
+    """The environment that pins every library's CPU code path (`eval "$(terrabench pins)"` before
+    starting Python makes a notebook or a learner give the stored rows' bits)."""
+    import shlex
+
+    for key, value in portable.pins().items():
+        typer.echo(f"export {key}={shlex.quote(value)}")
+
+
 @app.command("config")
 @friendly
 def config_cmd(system: str = typer.Argument(..., help="system id, e.g. mrs-cwc")) -> None:
@@ -198,7 +233,8 @@ def run(
     _limit_overrides(sysobj, overrides, timeout=timeout, threshold=threshold)
     if group is not None and not group.strip():
         raise ValueError(f"--group was given an empty value; valid: {', '.join(list(sysobj.groups) + ['all'])}")
-    specs = sysobj.plan(methods=_split(methods, "--methods"), instances=_split(terrains, "--terrains"),
+    specs = sysobj.plan(methods=_split(methods, "--methods", _valid_methods(sysobj)),
+                        instances=_split(terrains, "--terrains", _valid_instances(sysobj)),
                         group=group, seeds=seeds, overrides=overrides)
     if not specs:  # e.g. a method that does not apply to the group: an error, not a silent no-op
         from terrabench.describe import methods_for
@@ -208,8 +244,16 @@ def run(
         raise ValueError(f"{system}: --methods {methods!r} plan no trials in {where}; "
                          f"methods that apply there: {', '.join(valid) or 'none'}")
     signal.signal(signal.SIGTERM, _interrupt)  # a scheduler's TERM stops as cleanly as Ctrl-C
+    new_store = not store.exists()
     with ResultsStore(store) as st:
-        summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
+        try:
+            summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
+        except BaseException:
+            if new_store and st.trial_count() == 0:  # e.g. no Ray cluster: leave no empty store behind
+                st.close()
+                for leftover in (store, store.with_name(store.name + ".wal")):
+                    leftover.unlink(missing_ok=True)
+            raise
         rows = st.rows(keys=[s.key for s in specs])
     if not quiet:
         console.print(_trial_table(rows, sysobj))
@@ -312,7 +356,8 @@ def perf(
     from terrabench.sim.perf import measure, perf_table
 
     sysobj = get_system(system)
-    rows = measure(sysobj, method, _split(terrains, "--terrains"), seconds, repeats, parse_overrides(set_))
+    rows = measure(sysobj, method, _split(terrains, "--terrains", _valid_instances(sysobj)), seconds, repeats,
+                   parse_overrides(set_))
     console.print(perf_table(system, rows))
 
 @terrain_app.command("stats")
@@ -333,7 +378,7 @@ def terrain_stats(
     if csv is not None:
         chosen = [dataset.Terrain(f"row-{k}", "-", k, p) for k, p in enumerate(dataset.load_csv(csv), start=1)]
     else:
-        chosen = dataset.select(_split(terrains, "--terrains"), group)
+        chosen = dataset.select(_split(terrains, "--terrains", lambda: "A-01 ... A-50, B-01 ... B-50"), group)
     for ter in chosen:
         s = ter.stats()
         t.add_row(ter.id, f"{s['mean_axis_slope_deg']:.1f}", f"{s['max_slope_deg']:.1f}",
@@ -483,6 +528,8 @@ def main() -> None:
     except ImportError:  # pragma: no cover
         from click import exceptions as cex
 
+    if any(a in SIMULATING_COMMANDS for a in sys.argv[1:3]):  # the same bits on every CPU
+        portable.reexec_pinned()
     os.environ.setdefault("MPLBACKEND", "Agg")
     gl = os.environ.get("MUJOCO_GL")
     if gl is not None and gl.lower().strip() not in MUJOCO_GL_VALUES:

@@ -15,6 +15,20 @@ The range and the one-line meaning live in the field's metadata (:func:`spec_of`
 :func:`validate` (run by :func:`override` and :func:`from_dict`), ``terrabench config SYSTEM``
 and the generic tests all read the same declaration. Every error is one line naming the dotted
 key, the bad value and what is valid (:class:`ConfigError`, a ``ValueError``).
+
+What must hold *between* fields is declared next to them, on the config that holds all of them
+(a relation spanning sections on the root), as a ``relations`` class attribute of
+:class:`Relation` objects (:func:`le`, :func:`lt`, :func:`ge`, :func:`ordered`,
+:func:`multiple_of`, :func:`relation`) naming the fields by dotted keys relative to that config::
+
+    @dataclass(frozen=True)
+    class MRSConfig:
+        relations: ClassVar[tuple[Relation, ...]] = (le("stiffness.k_low", "stiffness.k_high"),)
+        ...
+
+:func:`validate` checks them after every field's own range, once all overrides are applied (so
+the order of ``--set`` items does not matter), and a broken one is one line naming every field
+and its value: ``stiffness.k_low=150 must be <= stiffness.k_high=100`` (:class:`RelationError`).
 """
 
 from __future__ import annotations
@@ -23,7 +37,7 @@ import dataclasses
 import functools
 import math
 import typing
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any, TypeVar
 
 import yaml
@@ -125,6 +139,133 @@ def _show(value: Any) -> str:
     return repr(list(value)) if isinstance(value, tuple) else repr(value)
 
 
+class RelationError(ConfigError):
+    """A relation between config fields that does not hold: one line naming each field and its value,
+    e.g. ``stiffness.k_low=150 must be <= stiffness.k_high=100``."""
+
+    def __init__(self, keys: tuple[str, ...], values: tuple[Any, ...], says: str, why: str = "") -> None:
+        self.keys, self.values, self.says, self.why = tuple(keys), tuple(values), says, why
+        self.key, self.value, self.problem = self.keys[0], self.values[0], "breaks a relation"
+        self.valid = says.format(*self.keys)
+        text = says.format(*(f"{k}={_brief(v)}" for k, v in zip(self.keys, self.values)))
+        ValueError.__init__(self, text + (f" ({why})" if why else ""))
+
+    def under(self, prefix: str) -> RelationError:
+        keys = tuple(f"{prefix}.{k}" for k in self.keys) if prefix else self.keys
+        return RelationError(keys, self.values, self.says, self.why)
+
+
+def _brief(v: Any) -> str:
+    """A value as a user types it after ``--set KEY=``: 150 (not 150.0), [1.4, -1.2], a string bare."""
+    if isinstance(v, (tuple, list)):
+        return "[" + ", ".join(_brief(x) for x in v) + "]"
+    if isinstance(v, float) and v.is_integer() and abs(v) < 1e15:
+        return repr(int(v))
+    return v if isinstance(v, str) else repr(v)
+
+
+@dataclasses.dataclass(frozen=True)
+class Relation:
+    """What must hold between fields of one config (declared in its ``relations`` class attribute).
+
+    Attributes:
+        keys: the fields, as dotted keys relative to the config declaring the relation.
+        holds: their values -> True when they are consistent (not called while any is None, an
+            optional field that is off).
+        says: what must hold, ``{0}``, ``{1}``... standing for the fields (``"{0} must be <= {1}"``);
+            in an error each reads ``key=value``.
+        why: optional reason shown after it in brackets.
+    """
+
+    keys: tuple[str, ...]
+    holds: Callable[..., bool]
+    says: str
+    why: str = ""
+
+    def text(self, prefix: str = "") -> str:
+        """The relation in words with the keys alone (``terrabench config SYSTEM``)."""
+        return self.says.format(*(f"{prefix}{k}" for k in self.keys)) + (f" ({self.why})" if self.why else "")
+
+    def check(self, cfg: Any) -> None:
+        """RelationError (keys relative to ``cfg``) unless the relation holds on ``cfg``."""
+        values = tuple(_get(cfg, k) for k in self.keys)
+        if any(v is None for v in values):
+            return
+        try:
+            ok = bool(self.holds(*values))
+        except (TypeError, ValueError, ArithmeticError, IndexError):
+            ok = False
+        if not ok:
+            raise RelationError(self.keys, values, self.says, self.why)
+
+
+def _get(cfg: Any, key: str) -> Any:
+    for part in key.split("."):
+        cfg = getattr(cfg, part)
+    return cfg
+
+
+def relation(keys: typing.Sequence[str], holds: Callable[..., bool], says: str, why: str = "") -> Relation:
+    """A relation between ``keys`` (see :class:`Relation`)."""
+    return Relation(tuple(keys), holds, says, why)
+
+
+def le(a: str, b: str, why: str = "") -> Relation:
+    """``a <= b``."""
+    return Relation((a, b), lambda x, y: x <= y, "{0} must be <= {1}", why)
+
+
+def lt(a: str, b: str, why: str = "") -> Relation:
+    """``a < b``."""
+    return Relation((a, b), lambda x, y: x < y, "{0} must be < {1}", why)
+
+
+def ge(a: str, b: str, why: str = "") -> Relation:
+    """``a >= b``."""
+    return Relation((a, b), lambda x, y: x >= y, "{0} must be >= {1}", why)
+
+
+def ordered(key: str, strict: bool = False, why: str = "") -> Relation:
+    """A ``(lower, upper, ...)`` list field whose first entry must not exceed its second."""
+    if strict:
+        return Relation((key,), lambda v: v[0] < v[1], "{0} must be (lower, upper) with lower < upper", why)
+    return Relation((key,), lambda v: v[0] <= v[1], "{0} must be (lower, upper) with lower <= upper", why)
+
+
+def multiple_of(period: str, step: str, why: str = "") -> Relation:
+    """``period`` is a whole number (>= 1) of ``step`` (e.g. a control period of physics steps)."""
+
+    def holds(p: float, s: float) -> bool:
+        ratio = p / s
+        return round(ratio) >= 1 and abs(ratio - round(ratio)) <= 1e-6
+
+    return Relation((period, step), holds, "{0} must be a whole number of physics steps ({1})", why)
+
+
+def relations_of(cfg: Any, prefix: str = "") -> list[tuple[str, Relation]]:
+    """Every (prefix, relation) declared by ``cfg`` and its nested sections (prefix ends in '.')."""
+    out = [(prefix, r) for r in getattr(type(cfg), "relations", ())]
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            out.extend(relations_of(v, f"{prefix}{f.name}."))
+    return out
+
+
+def check_relations(cfg: Any, prefix: str = "") -> None:
+    """RelationError (full dotted keys) for the first declared relation of ``cfg`` or its sections
+    that does not hold; the sections' own before the ones spanning them."""
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if dataclasses.is_dataclass(v) and not isinstance(v, type):
+            check_relations(v, f"{prefix}.{f.name}" if prefix else f.name)
+    for r in getattr(type(cfg), "relations", ()):
+        try:
+            r.check(cfg)
+        except RelationError as e:
+            raise e.under(prefix) from None
+
+
 def param(default: Any = dataclasses.MISSING, *, ge: float | None = None, gt: float | None = None,
           le: float | None = None, lt: float | None = None, unit: str = "", doc: str = "",
           choices: typing.Iterable[Any] | None = None, length: int | None = None,
@@ -210,10 +351,18 @@ def _declared(cls: type) -> tuple[tuple[str, Param, Any], ...]:
 
 
 def validate(cfg: Any, prefix: str = "") -> Any:
-    """Check every declared field of ``cfg`` and its nested sections; returns ``cfg``.
+    """Check every declared field of ``cfg`` and its nested sections, then every declared
+    relation between them (:func:`check_relations`); returns ``cfg``.
 
-    Raises :class:`ConfigError` (a ValueError) naming the dotted key, the value and what is valid.
+    Raises :class:`ConfigError` (a ValueError) naming the dotted key, the value and what is valid,
+    or :class:`RelationError` naming every field of the broken relation and its value.
     """
+    _validate_fields(cfg, prefix)
+    check_relations(cfg, prefix)
+    return cfg
+
+
+def _validate_fields(cfg: Any, prefix: str = "") -> None:
     try:
         check_fields(cfg)
     except ConfigError as e:
@@ -221,8 +370,7 @@ def validate(cfg: Any, prefix: str = "") -> Any:
     for f in dataclasses.fields(cfg):
         v = getattr(cfg, f.name)
         if dataclasses.is_dataclass(v) and not isinstance(v, type):
-            validate(v, f"{prefix}.{f.name}" if prefix else f.name)
-    return cfg
+            _validate_fields(v, f"{prefix}.{f.name}" if prefix else f.name)
 
 
 def _default(f: dataclasses.Field) -> Any:
@@ -416,5 +564,10 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
         key, sep, raw = item.partition("=")
         if not sep or not key:
             raise ValueError(f"bad override {item!r}; expected KEY=VALUE, e.g. physics.timestep=0.0025")
-        out[key.strip()] = yaml.safe_load(raw)
+        try:
+            out[key.strip()] = yaml.safe_load(raw)
+        except yaml.YAMLError as exc:  # e.g. an unclosed list: one line, not the parser's report
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise ValueError(f"bad override {item!r}: the value {raw!r} does not parse ({problem}); "
+                             "valid: a number, true/false, a string or a list like [1, 2]") from None
     return out

@@ -8,18 +8,50 @@ here, with one line naming the bad value and the valid choices.
 
 from __future__ import annotations
 
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 from terrabench.benchmark.trial import TrialSpec
 
 
-def split_ids(value: Sequence[str] | None, what: str, valid: Sequence[str]) -> list[str] | None:
-    """Validate a user's list of ids (None = not given). An empty list is an error."""
+def choices_text(valid: Sequence[str], system_id: str = "", limit: int = 30) -> str:
+    """The valid ids for an error line: all of them, or (more than ``limit``) a few and the count."""
+    valid = list(valid)
+    if len(valid) <= limit:
+        return ", ".join(valid)
+    more = f"; every id: `terrabench list {system_id}`" if system_id else ""
+    return f"{', '.join(valid[:4])} ... {', '.join(valid[-2:])} ({len(valid)} ids{more})"
+
+
+def check_id_list(value: Any, what: str, valid: Sequence[str] | Callable[[], Sequence[str]],
+                  system_id: str = "") -> list[str] | None:
+    """``value`` as a list of ids (None = not given), or ValueError naming the bad value and the
+    valid ids: a bare string or a non-list, an item that is not a string, an empty list or an
+    empty item (``"A-01,"`` on the command line) are refused, never dropped or split."""
     if value is None:
         return None
-    items = [v for v in value if v]
+
+    def choices() -> str:
+        return choices_text(valid() if callable(valid) else valid, system_id)
+
+    if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple)):
+        raise ValueError(f"{what}: expected a list of ids, got {value!r}; valid: {choices()}")
+    items = list(value)
     if not items:
-        raise ValueError(f"{what}: an empty list was given; valid: {', '.join(valid)}")
+        raise ValueError(f"{what}: an empty list was given; valid: {choices()}")
+    bad = [v for v in items if not isinstance(v, str)]
+    if bad:
+        raise ValueError(f"{what}: {bad[0]!r} is not an id (a string); valid: {choices()}")
+    if any(not v.strip() for v in items):
+        raise ValueError(f"{what}: {','.join(items)!r} has an empty item (ids are separated by single "
+                         f"commas); valid: {choices()}")
+    return items
+
+
+def split_ids(value: Sequence[str] | None, what: str, valid: Sequence[str]) -> list[str] | None:
+    """Validate a user's list of ids (None = not given). An empty list or an empty item is an error."""
+    items = check_id_list(value, what, valid)
+    if items is None:
+        return None
     bad = [v for v in items if v not in valid]
     if bad:
         raise ValueError(f"unknown {what} {', '.join(map(repr, bad))}; valid: {', '.join(valid)}")
@@ -36,7 +68,7 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
     if not isinstance(seeds, int) or seeds < 1:
         raise ValueError(f"seeds must be an integer >= 1, got {seeds!r}")
     known = system.methods()
-    if methods is not None and list(methods) == ["all"]:
+    if isinstance(methods, (list, tuple)) and list(methods) == ["all"]:
         mids = list(known)
     else:
         mids = split_ids(methods, f"{system.id} method(s)", list(known)) or system.default_methods()
@@ -47,6 +79,7 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
         if instances is not None:
             raise ValueError("give either instances (--terrains) or --group, not both")
     if instances is not None:
+        check_id_list(instances, f"{system.id} instance(s)", lambda: system.instances(None), system.id)
         chosen = system.select_instances(instances)
     else:
         chosen = system.instances(group if group is not None else system.default_group)

@@ -6,7 +6,9 @@ Tables:
         metrics, info and the fully resolved config as JSON.
     ``series(key, name, t_index, values)``: each stored time-series column as a DOUBLE[] list.
 
-A trial's series and its row are written in one transaction, row last, so an interrupted
+Opening a store reads it whole first (read-only): a truncated file, a damaged block or a file
+that is not DuckDB is one :class:`StoreError` naming the file and what failed, and the file is
+left exactly as it was. A trial's series and its row are written in one transaction, row last, so an interrupted
 run leaves either the whole trial or nothing; re-running skips the keys already present,
 except rows with status ``error`` (a fault, not a physics outcome), which it runs again.
 """
@@ -39,7 +41,8 @@ _DDL = [
 
 
 class StoreError(ValueError):
-    """A results file that cannot be used (wrong version, locked, not a DuckDB file)."""
+    """A results file that cannot be used (wrong version, locked, not a DuckDB file, damaged:
+    truncated or with a block whose checksum fails). Raised on opening, with the file untouched."""
 
 
 def _clean(obj: Any) -> Any:
@@ -55,6 +58,10 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
+def _first_line(exc: BaseException) -> str:
+    return (str(exc).splitlines() or [type(exc).__name__])[0]
+
+
 def _metrics_back(d: dict[str, Any]) -> dict[str, float]:
     return {k: (float("nan") if v is None else v) for k, v in d.items()}
 
@@ -68,16 +75,46 @@ class ResultsStore:
         self.path = Path(path)
         if read_only and not self.path.exists():
             raise StoreError(f"results file not found: {str(self.path)!r} (run `terrabench run ...` first)")
+        if not read_only and self.path.exists() and self.path.stat().st_size > 0:
+            # read the whole file first, read-only, so a damaged store is refused untouched:
+            # nothing is ever written into a file that could not be read back whole
+            ResultsStore(self.path, read_only=True).close()
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.con = self._connect(read_only)
         try:
-            self.con = duckdb.connect(str(self.path), read_only=read_only)
+            self._check_or_init(read_only, __version__)
+            if read_only:
+                self._read_whole()
+        except BaseException:
+            self.con.close()
+            raise
+
+    def _connect(self, read_only: bool) -> duckdb.DuckDBPyConnection:
+        try:
+            con = duckdb.connect(str(self.path), read_only=read_only)
         except duckdb.IOException as exc:
-            msg = str(exc).splitlines()[0]
-            raise StoreError(f"cannot open results file {str(self.path)!r}: {msg}") from None
+            raise StoreError(f"cannot open results file {str(self.path)!r}: {_first_line(exc)} "
+                             "(the file was left as it was)") from None
         except duckdb.Error as exc:
-            msg = str(exc).splitlines()[0]
-            raise StoreError(f"{str(self.path)!r} is not a usable DuckDB results file: {msg}") from None
-        self._check_or_init(read_only, __version__)
+            raise StoreError(f"{str(self.path)!r} is not a usable DuckDB results file: {_first_line(exc)} "
+                             "(the file was left as it was)") from None
+        con.execute("SET enable_progress_bar = false")
+        return con
+
+    def _read_whole(self) -> None:
+        """Read every stored value once (a hash over every column of every table), so a truncated
+        file or a damaged block is found here, as one :class:`StoreError`, not by a later query."""
+        tables = {r[0]: [c[0] for c in self.con.execute(
+                     "SELECT column_name FROM information_schema.columns WHERE table_name = ?", [r[0]]).fetchall()]
+                  for r in self.con.execute("SELECT table_name FROM information_schema.tables").fetchall()}
+        try:
+            for table, columns in sorted(tables.items()):
+                cols = ", ".join(f'"{c}"' for c in columns)
+                self.con.execute(f'SELECT count(*), bit_xor(hash({cols})) FROM "{table}"').fetchall()
+        except duckdb.Error as exc:
+            raise StoreError(f"results file {str(self.path)!r} is damaged (reading table {table!r}: "
+                             f"{_first_line(exc)}); it was left as it was: copy it aside, and run into a new "
+                             "--store") from None
 
     def _check_or_init(self, read_only: bool, version: str) -> None:
         tables = {r[0] for r in self.con.execute("SELECT table_name FROM information_schema.tables").fetchall()}
@@ -228,6 +265,10 @@ class ResultsStore:
 
     def close(self) -> None:
         self.con.close()
+
+    def trial_count(self) -> int:
+        """How many trial rows the store holds."""
+        return int(self.con.execute("SELECT count(*) FROM trials").fetchone()[0])
 
     def __enter__(self) -> "ResultsStore":
         return self

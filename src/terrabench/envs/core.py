@@ -16,8 +16,8 @@ bitwise (:meth:`TerrabenchEnv.trial_result`).
 ``instance`` and, at the stop, ``metrics`` (the benchmark's metrics of the episode).
 
 Actions: a non-finite entry (NaN, inf) is a ``ValueError`` naming the entries; an action of the
-wrong shape too; entries outside the action space are **clipped** to it (``info["clipped"]``
-counts them), as the benchmark's own commands would be. ``overrides`` go through the same
+wrong shape too, and one that is not numbers (strings, bools, complex, an int beyond float64);
+entries outside the action space are **clipped** to it (``info["clipped"]`` counts them), as the benchmark's own commands would be. ``overrides`` go through the same
 validation as ``terrabench run --set`` (a value outside a field's declared range is one
 ``ValueError`` naming the dotted key, before anything is built).
 
@@ -37,6 +37,7 @@ all three (:data:`LEARNER_OPTIONS`).
 
 from __future__ import annotations
 
+import numbers
 from typing import Any, Mapping, Sequence
 
 import gymnasium
@@ -222,10 +223,15 @@ class TerrabenchEnv(gymnasium.Env):
         """``action`` as the system's float64 action, clipped to its space, and how many entries
         were clipped; ValueError for a wrong shape or a non-finite entry (naming the entries)."""
         try:
-            if np.iscomplexobj(action):
-                raise TypeError("complex")
-            a = np.array(action, dtype=np.float64)
-        except (TypeError, ValueError):
+            raw = np.asarray(action)
+            # numbers only: a string ("0.1"), a bool or a complex entry is not silently cast
+            if raw.dtype.kind == "O":
+                if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)) for v in raw.flat):
+                    raise TypeError("not numbers")
+            elif raw.dtype.kind not in "iuf":
+                raise TypeError(f"dtype {raw.dtype}")
+            a = np.array(raw, dtype=np.float64)
+        except (TypeError, ValueError, OverflowError):
             shown = " ".join(repr(action).split())
             shown = shown if len(shown) <= 120 else shown[:117] + "..."
             raise ValueError(f"action must be an array of numbers of shape {self.action_space.shape}, "

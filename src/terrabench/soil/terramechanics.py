@@ -159,12 +159,14 @@ class WheelParams:
     """A rigid, smooth cylindrical wheel (no grousers).
 
     Attributes:
-        radius: (m), > 0.
+        radius: (m), in (0, 2].
         width: contact width b (m), > 0.
         mass: (kg), > 0; used by the MuJoCo testbed.
     """
 
-    radius: float = param(0.15, gt=0, unit="m", doc="wheel radius")
+    radius: float = param(0.15, gt=0, le=2.0, unit="m",
+                          doc="wheel radius; <= 2 m: Bekker-Wong pressure-sinkage was measured with "
+                              "plates and wheels well under a metre, beyond that it is extrapolation")
     width: float = param(0.12, gt=0, unit="m", doc="contact width b")
     mass: float = param(2.0, gt=0, unit="kg", doc="wheel mass (the MuJoCo testbed)")
 

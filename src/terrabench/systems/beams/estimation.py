@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
-from terrabench.config import check_fields, param
+from terrabench.config import Relation, check_fields, ordered, param, relation
 
 from .model import Beam, ModelConfig, SimLog, SimulatedTimeout, deflection_vec, simulate
 
@@ -69,7 +70,19 @@ class SensingConfig:
 
 @dataclass(frozen=True)
 class EstimatorConfig:
-    """The fit of eq. 7."""
+    """The fit of eq. 7.
+
+    Relations: the start ranges are (lower, upper) with lower <= upper; the hinge-height table is
+    (min, max, step) with min < max and 0 < step <= max - min.
+    """
+
+    relations: ClassVar[tuple[Relation, ...]] = (
+        ordered("k_start_range", why="initial guesses are drawn uniformly from it"),
+        ordered("hb_start_range_mm", why="initial guesses are drawn uniformly from it"),
+        relation(("hb_grid_mm",), lambda g: g[0] < g[1] and 0 < g[2] <= g[1] - g[0],
+                 "{0} must be (min, max, step) with min < max and 0 < step <= max - min",
+                 "the hinge-height table is min, min + step, ... max"),
+    )
 
     n_unknowns: int = param(3, choices=tuple(VARIANTS), doc="4: (k1, k2, hb1, hb2)")
     """4: (k1, k2, hb1, hb2); 3: (k1, k2, hb1 = hb2); 2: (k1, k2) with hb1 = hb2 = known_hb."""

@@ -28,6 +28,7 @@ from __future__ import annotations
 import re
 from typing import Any, Sequence
 
+from terrabench.benchmark.plan import check_id_list
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.config import override
 
@@ -138,17 +139,20 @@ def plan_specs(*, methods: Sequence[str] | None = None, instances: Sequence[str]
     for g in groups:
         if g not in SCENARIOS:
             raise ValueError(f"unknown beams group {g!r}; valid: {', '.join(GROUPS)}, all")
-    if methods and list(methods) == ["all"]:  # as for every system: 'all' = every method
+    known = sorted({i for g in GROUPS for i in INSTANCES[g]})
+    # an empty list, an empty item or a bare string is refused, never read as 'every one'
+    methods = check_id_list(methods, "beams method(s)", list(METHODS) + ["all"])
+    instances = check_id_list(instances, "beams instance(s)", known)
+    if methods is not None and methods == ["all"]:  # as for every system: 'all' = every method
         methods = None
     if methods:
         bad = [m for m in methods if m not in METHODS]
         if bad:
             raise ValueError(f"unknown beams method(s) {bad}; valid: {', '.join(METHODS)}, all")
     if instances:
-        known = {i for g in GROUPS for i in INSTANCES[g]} | {"stiff", "flimsy"}
         bad = [i for i in instances if i not in known]
         if bad:
-            raise ValueError(f"unknown beams instance(s) {bad}; valid: {', '.join(sorted(known))}")
+            raise ValueError(f"unknown beams instance(s) {bad}; valid: {', '.join(known)}")
     if seeds < 1:
         raise ValueError(f"seeds = {seeds}; it must be >= 1")
     specs = []
@@ -157,7 +161,7 @@ def plan_specs(*, methods: Sequence[str] | None = None, instances: Sequence[str]
             if g not in METHOD_GROUP[m] or (methods and m not in methods):
                 continue
             for inst in INSTANCES[g]:
-                if instances and inst not in instances and not any(inst.startswith(i + "-") for i in instances):
+                if instances and inst not in instances:  # ids match exactly: 'stiff' is not 'stiff-d100'
                     continue
                 cfg = build_config(g, m, inst, overrides)
                 # noise-free or deterministic trials need one seed only

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
-from terrabench.config import check_fields, param
-from terrabench.sim.episode import Timing
+from terrabench.config import Relation, check_fields, ge, le, multiple_of, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.mrs_cwc.control import (
     DriveConfig,
@@ -81,7 +81,20 @@ class MRSConfig:
         waypoints: A* waypoint following.
         waypoint_source: ``"released"`` (the benchmark's CSV) or ``"planner"`` (our A*).
         planner: cost terms of our A* planner.
+
+    Relations (checked by ``validate`` once every ``--set`` is applied): the soft stiffness is not
+    above the stiff one and the latch releases below where it latches (the CWC law's hysteresis,
+    paper eqs 10-12); the control period is a whole number of physics steps, and the divergence
+    check and the stored series are not faster than the controller (both run at control instants).
     """
+
+    relations: ClassVar[tuple[Relation, ...]] = (
+        le("stiffness.k_low", "stiffness.k_high", "k_low is the soft stiffness; a stiffer one needs k_high raised too"),
+        le("stiffness.latch_off", "stiffness.latch_on", "the latch releases below where it latches on"),
+        multiple_of("protocol.control_period", "physics.timestep"),
+        ge("protocol.divergence_check_period", "protocol.control_period", "checks run at control instants"),
+        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+    )
 
     physics: PhysicsConfig = field(default_factory=PhysicsConfig)
     chain: ChainConfig = field(default_factory=ChainConfig)
@@ -97,5 +110,3 @@ class MRSConfig:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        pr = self.protocol
-        Timing(pr.control_period, pr.timeout, pr.divergence_check_period, pr.log_period).substeps(self.physics.timestep)

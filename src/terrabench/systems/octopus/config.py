@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
-from terrabench.config import ConfigError, check_fields, param
-from terrabench.sim.episode import Timing
+from terrabench.config import Relation, check_fields, ge, le, multiple_of, ordered, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.octopus.ccm import CCMConfig
 from terrabench.systems.octopus.clm import CLMConfig
@@ -32,7 +32,13 @@ class SceneConfig:
         jitter_offset: seeds > 0 shift the start sideways by up to this (m).
         jitter_yaw_deg: seeds > 0 turn the start by up to this (deg).
         friction: ground friction.
+
+    Relation: ``step_height <= max_step_height`` (the largest step the arms reach).
     """
+
+    relations: ClassVar[tuple[Relation, ...]] = (
+        le("step_height", "max_step_height", "the largest step the arms reach"),
+    )
 
     step_height: float = param(0.4, gt=0, unit="m", doc="height of the step-400 instance's step (<= max_step_height)")
     max_step_height: float = param(0.6, gt=0, unit="m", doc="the largest step any instance may have")
@@ -53,9 +59,6 @@ class SceneConfig:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        if self.step_height > self.max_step_height:
-            raise ConfigError("step_height", self.step_height, f"a number in (0, {self.max_step_height}] (m), "
-                              "the largest step the arms reach (scene.max_step_height)")
 
 
 @dataclass(frozen=True)
@@ -97,7 +100,21 @@ class ProtocolConfig:
 
 @dataclass(frozen=True)
 class OctopusConfig:
-    """Everything a trial needs besides (method, instance, seed)."""
+    """Everything a trial needs besides (method, instance, seed).
+
+    Relations (checked by ``validate`` once every ``--set`` is applied): every joint range is
+    (lower, upper) with lower < upper (MuJoCo needs it; a reversed range is no range); the control
+    period is a whole number of physics steps, and the slow check and the stored series are not
+    faster than the controller (both run at control instants).
+    """
+
+    relations: ClassVar[tuple[Relation, ...]] = (
+        *(ordered(f"robot.{j}_range", strict=True, why="a joint range is (lower, upper)")
+          for j in ("flipper", "swing", "boom", "elbow")),
+        multiple_of("protocol.control_period", "physics.timestep"),
+        ge("protocol.check_period", "protocol.control_period", "checks run at control instants"),
+        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+    )
 
     physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.004, iterations=30))
     robot: RobotConfig = field(default_factory=RobotConfig)
@@ -105,7 +122,3 @@ class OctopusConfig:
     protocol: ProtocolConfig = field(default_factory=ProtocolConfig)
     clm: CLMConfig = field(default_factory=CLMConfig)
     ccm: CCMConfig = field(default_factory=CCMConfig)
-
-    def __post_init__(self) -> None:
-        pr = self.protocol
-        Timing(pr.control_period, pr.timeout, pr.check_period, pr.log_period).substeps(self.physics.timestep)

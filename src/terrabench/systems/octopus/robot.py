@@ -106,7 +106,9 @@ class RobotConfig:
         flipper_range: joint range (rad); the upper end is the paper's 85 deg limit.
         flipper_torque: actuator torque limit (N m); flipper_kp position gain (N m/rad).
         arm_mount: arm base at (+-x, +-y, z) in the chassis frame (m) (the paper's m/2, n/2).
-        l1, l2: boom and forearm lengths (m); d3 lateral offset of the forearm (m).
+        l1, l2: boom and forearm lengths (m), at most 1.5 m each: the compiled robot
+            weighs 94 kg, so one of four supporting arms carries about 230 N, which the boom's
+            default 300 N m holds at no more than 1.3 m of lever; d3 lateral offset of the forearm (m).
         link_r: link capsule radius (m); tip_r tip sphere radius (m).
         link_mass: (boom, forearm, tip) masses (kg).
         swing_range, boom_range, elbow_range: joint ranges (rad) in our convention.
@@ -142,8 +144,12 @@ class RobotConfig:
     flipper_kp: float = param(3000.0, gt=0, unit="N m/rad", doc="flipper position gain")
     arm_mount: tuple[float, float, float] = param((0.2, 0.17, 0.15), length=3, ge=0, unit="m",
                                                   doc="arm base at (+-x, +-y, z) in the chassis frame")
-    l1: float = param(0.45, gt=0, unit="m", doc="boom length")
-    l2: float = param(0.45, gt=0, unit="m", doc="forearm length")
+    l1: float = param(0.45, gt=0, le=1.5, unit="m",
+                      doc="boom length; <= 1.5 m: beyond 1.3 m the boom's 300 N m cannot hold up "
+                          "a quarter of the 94 kg robot")
+    l2: float = param(0.45, gt=0, le=1.5, unit="m",
+                      doc="forearm length; <= 1.5 m, as the boom (an arm that long cannot carry "
+                          "the 94 kg robot)")
     d3: float = param(0.0, ge=0, unit="m", doc="lateral offset of the forearm")
     link_r: float = param(0.03, gt=0, unit="m", doc="arm link capsule radius")
     tip_r: float = param(0.04, gt=0, unit="m", doc="arm tip sphere radius")

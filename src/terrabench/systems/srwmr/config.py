@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
-from terrabench.config import check_fields, param
-from terrabench.sim.episode import Timing
+from terrabench.config import Relation, check_fields, ge, multiple_of, ordered, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
 from terrabench.systems.srwmr.control import SupervisorConfig
@@ -65,7 +65,21 @@ class ProtocolConfig:
 
 @dataclass(frozen=True)
 class SRWMRConfig:
-    """Everything a trial needs besides (method, instance, seed)."""
+    """Everything a trial needs besides (method, instance, seed).
+
+    Relations (checked by ``validate`` once every ``--set`` is applied): the rocker and the
+    IK's delta ranges are (lower, upper) with lower < upper; the control period is a whole number
+    of physics steps, and the slow check and the stored series are not faster than the controller
+    (both run at control instants).
+    """
+
+    relations: ClassVar[tuple[Relation, ...]] = (
+        ordered("robot.rocker_range", strict=True, why="a joint range is (lower, upper)"),
+        ordered("limits.delta_range", strict=True, why="a range is (lower, upper)"),
+        multiple_of("protocol.control_period", "physics.timestep"),
+        ge("protocol.check_period", "protocol.control_period", "checks run at control instants"),
+        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+    )
 
     physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.0005, iterations=30))
     robot: RobotConfig = field(default_factory=RobotConfig)
@@ -75,7 +89,3 @@ class SRWMRConfig:
     supervisor: SupervisorConfig = field(default_factory=SupervisorConfig)
     limits: IKLimits = field(default_factory=IKLimits)
     scales: Scales = field(default_factory=Scales)
-
-    def __post_init__(self) -> None:
-        pr = self.protocol
-        Timing(pr.control_period, max(pr.timeout, 1.0), pr.check_period, pr.log_period).substeps(self.physics.timestep)

@@ -17,9 +17,10 @@ bitwise (:meth:`TerrabenchEnv.trial_result`).
 
 Actions: a non-finite entry (NaN, inf) is a ``ValueError`` naming the entries; an action of the
 wrong shape too, and one that is not numbers (strings, bools, complex, an int beyond float64);
-entries outside the action space are **clipped** to it (``info["clipped"]`` counts them), as the benchmark's own commands would be. ``overrides`` go through the same
-validation as ``terrabench run --set`` (a value outside a field's declared range is one
-``ValueError`` naming the dotted key, before anything is built).
+entries outside the action space are **clipped** to it (``info["clipped"]`` counts them), as
+the benchmark's own commands would be. ``overrides`` go through the same validation as
+``terrabench run --set`` (a value outside a field's declared range is one ``ValueError``
+naming the dotted key, before anything is built).
 
 For learning libraries (e.g. Stable-Baselines3, whose ``check_env`` asks for float32 spaces,
 actions normalised to [-1, 1] and 1-D observations), three options, all off by default so that

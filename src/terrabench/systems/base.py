@@ -143,7 +143,9 @@ class System:
 
     Class attributes:
         id: the system id (``terrabench run ID``).
-        summary: one line for ``terrabench list``.
+        summary: one line for ``terrabench list``: the paper and the robot (README's system table).
+        status: one short line of what is built (README's system table, rendered with the groups'
+            sizes by :mod:`terrabench.report.readme`).
         config_cls: root frozen dataclass of a trial's config (nested sections).
         groups: group id -> one-line description (``--group``); ``all`` is implied.
         default_group: the group planned when neither ``--group`` nor instances are given.
@@ -167,6 +169,7 @@ class System:
 
     id: ClassVar[str] = ""
     summary: ClassVar[str] = ""
+    status: ClassVar[str] = ""
     config_cls: ClassVar[type] = object
     groups: ClassVar[Mapping[str, str]] = {}
     default_group: ClassVar[str | None] = None

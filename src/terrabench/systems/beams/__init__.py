@@ -26,7 +26,9 @@ class BeamsSystem(System):
     id = _sc.SYSTEM_ID
     status_notes = {"success": "passed the beams", "fell": "the body rolled or pitched past 90 deg",
                     "stuck": "the plan ended without passing"}
-    summary = "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through"
+    summary = ("Xuan, Wang, Li: an ellipsoid robot senses beam stiffness by touch and plans on a potential-energy "
+               "landscape (pitch over or roll through)")
+    status = "model, estimation, planning, control, MuJoCo cross-check, report; no env (the paper's analytic dynamics)"
     config_cls = TrialConfig
     groups = {g: g for g in _sc.GROUPS}
     timeout_key = "protocol.timeout"
@@ -69,8 +71,7 @@ def register(registry) -> None:
     """Register the beams system, its scenarios and its methods in ``registry``."""
     from terrabench.registry import Record
 
-    registry.register(Record("system", _sc.SYSTEM_ID,
-                             "Ellipsoid robot senses beam stiffness by touch and pitches over or rolls through",
+    registry.register(Record("system", _sc.SYSTEM_ID, BeamsSystem.summary,
                              "terrabench.systems.beams:SYSTEM", _sc.SYSTEM_ID, ("beams", "force-sensing")))
     summaries = {
         "estimation": "Tables 1-4: fit 4/3/2 beam unknowns from noisy forces vs noise and sensing time",

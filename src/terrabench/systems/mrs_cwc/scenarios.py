@@ -26,7 +26,9 @@ class MRSCWCSystem(System):
     status_notes = {"success": "leader within protocol.success_threshold of the target",
                     "fell": "leader below protocol.fall_z",
                     "stuck": "only with the opt-in protocol.stall_time > 0"}
-    summary = "MRS-CWC robot chain on 100 rough terrains (Xiao et al.)"
+    summary = ("Xiao et al., MRS-CWC: six two-wheeled robots joined by elastic links whose yaw stiffness is "
+               "switched in real time; 100-terrain navigation benchmark, 8 methods")
+    status = "platform, all 8 methods, our A* planner beside the released waypoints, report, env"
     config_cls = MRSConfig
     instance_format = "A-01 ... A-50 (group A), B-01 ... B-50 (group B): the released terrain rows"
     groups = {"A": "the released lessthan30 file, rows 1-50 (mean axis slope 0.3-29.0 deg)",

@@ -33,7 +33,10 @@ class OctopusSystem(System):
     status_notes = {"success": "on top, past the edge and stable for protocol.success_hold",
                     "stuck": "no progress for protocol.stuck_time",
                     "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
-    summary = "OCTOPUS four-arm four-flipper crawler climbing a 400 mm step without vision (Chen, Kamezaki et al.)"
+    summary = ("Chen, Kamezaki et al., OCTOPUS: four arms walk while four flippers crawl (compound locomotion), "
+               "400 mm steps without vision")
+    status = ("robot, scenes, CLM and CCM controllers, stability margin, report, env "
+              "(`docs/octopus.md` for what climbs)")
     config_cls = OctopusConfig
     groups = {"steps": "the paper's tasks: step-400, terrace2-front, terrace2-side, block-500",
               "sweep": "step heights 100-550 mm in 50 mm (sweep-h100 ... sweep-h550)",

@@ -69,7 +69,10 @@ class SoilSystem(System):
     """Single-wheel terramechanics testbed (drawbar pull, torque, sinkage vs slip and load)."""
 
     id = "soil"
-    summary = "Single rigid wheel on loose soil (Bekker / Wong-Reece / Janosi): slip and load sweeps"
+    summary = ("the hallway's wheel-soil terramechanics (Bekker / Reece, Wong-Reece, Janosi, slip-sinkage) on a "
+               "single rigid wheel: a MuJoCo testbed and the steady-state equations")
+    status = ("drawbar pull, torque, sinkage vs slip and load for every soil preset (rig and equations); the CMU "
+              "smooth-wheel trials beside the model (`docs/soil.md`)")
     config_cls = SoilTestbedConfig
     instance_format = ("single-wheel: SOIL/W<load N>/s<slip> (a preset or custom; any load > 0, slip in [-1, 1]), "
                        "e.g. mars_soft/W100/s0.2; cmu-smooth: cmu/b<slip angle deg>/t<trial>, e.g. cmu/b30/t012")

@@ -1,5 +1,6 @@
 """HIT-MRII: a reconfigurable rocker-bogie rover on loose soil, its constraint-saturated inverse
-kinematics and locomotion modes (seed 001, Qi et al., IJRR). See docs/srwmr.md."""
+kinematics and locomotion modes: wheel rolling, crabbing, chassis lifting, creeping and the
+wheel-legged SWLM / DWLM (seed 001, Qi et al., IJRR). See docs/srwmr.md."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ def register(registry: Registry) -> None:
         registry,
         "terrabench.systems.srwmr.scenarios:SYSTEM",
         {
-            SCENARIO: "the paper's tasks T1, T3, T4, T5, T8, T11, T14 on loose soil",
+            SCENARIO: "the paper's tasks T1-T15 (group tasks): wheeled, chassis and wheel-legged modes on loose soil",
             SLOPE_SCENARIO: "slope sweep 0-25 deg, very loose and loose soil, WRM vs RCM",
         },
     )

@@ -48,8 +48,11 @@ class SRWMRSystem(System):
     status_notes = {"success": "the chassis passed the task's goal line, or the plan ended at it",
                     "stuck": "a health halt (body slip >= supervisor.health_slip) or a plan ended short of the goal",
                     "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
-    summary = ("HIT-MRII reconfigurable rover: constraint-saturated IK, WRM/WCM/RCLM/RCM/SWLM/DWLM on loose soil "
-               "(Qi et al.)")
+    summary = ("Qi et al., HIT-MRII: a six-wheeled rover with active rockers and passive clutched bogies, "
+               "constraint-saturated inverse kinematics, locomotion modes on loose soil")
+    status = ("rover, kinematics, MC#1-#11, DAQP-saturated IK, WRM/WCM/RCLM/RCM and the wheel-legged SWLM/DWLM "
+              "with the supervisor, the paper's tasks T1-T15 and a slope sweep, report, env "
+              "(`docs/srwmr.md` for what is and is not reproduced)")
     config_cls = SRWMRConfig
     groups = {
         "tasks": "the paper's tasks a simulation repeats (T1-T15)",

@@ -260,8 +260,34 @@ def block_mrs_table(src: Sources) -> Block:
     order = f"The first {len(default)} rows are the default (released) laws"
     order += f"; the last {len(variants)} are the variants." if variants else "."
     body = "\n\n".join([head, table(["method", "A: NSR %", "A: NCR %", "A: NEF", "B: NSR %", "B: NCR %", "B: NEF"],
-                                    rows), order + " " + _mrs_leader(lines, by_group["B"])])
+                                    rows), order + " " + _mrs_leader(lines, by_group["B"]),
+                          *_mrs_starts(src, "docs/results/mrs-cwc", by_group)])
     return src.block(body)
+
+
+def _mrs_starts(src: Sources, folder: str, by_group: dict[str, dict[tuple[str, str], dict]]) -> list[str]:
+    """The methods of the report run from several starts: NSR over them beside seed 0, each with
+    its 95 % interval (the report's ``nsr_seeds.csv``); [] when every method has one seed."""
+    seeds = [r for r in src.read(f"{folder}/nsr_seeds.csv", required=False) or ()
+             if (fnum(r.get("n_seeds")) or 0) > 1]
+    if not seeds:
+        return []
+    out = []
+    for s in seeds:
+        g, method = s.get("group", ""), s.get("method", "").partition("@")[0]
+        seed0 = next((r for (m, _), r in by_group.get(g, {}).items()
+                      if m == method and not mrs_variant(r.get("label", m))[1]), None)
+        out.append([cell(mrs_variant(s.get("label", method))[0]), cell(g),
+                    f"{num(seed0.get('NSR'), 0)} [{num(seed0.get('NSR_lo'), 0)}, {num(seed0.get('NSR_hi'), 0)}]"
+                    if seed0 else "-",
+                    f"{num(s.get('NSR'), 1)} [{num(s.get('NSR_lo'), 1)}, {num(s.get('NSR_hi'), 1)}]",
+                    num(s.get("n_seeds"), 0), num(s.get("flip_share"), 0), num(s.get("NSR_paper"), 0)])
+    head = ("The same report's trials from several starts (seeds > 0 move the start by up to 5 cm; the chain is "
+            "chaotic, so one start is one draw): NSR over all starts with its 95 % bootstrap interval over "
+            "terrains, beside seed 0 with its table's interval; *flips*: the share of terrains whose outcome "
+            "differs between starts:")
+    return [head, table(["method", "group", "seed 0: NSR % [95 % CI]", "all starts: NSR % [95 % CI]", "starts",
+                         "flips %", "paper NSR %"], out)]
 
 
 def _mrs_leader(lines: list[dict], rows_b: dict) -> str:

@@ -59,16 +59,10 @@ def examples(ids: list[str], n: int = 3) -> str:
 
 
 def methods_for(sysobj: Any, group: str | None = None, instances: list[str] | None = None) -> list[str]:
-    """The methods that plan at least one trial in ``group`` (or on ``instances``); a method that
-    does not apply there is refused by the planner or plans nothing."""
-    ok = []
-    for m in sysobj.methods():
-        try:
-            if sysobj.plan(methods=[m], group=group, instances=instances, seeds=1):
-                ok.append(m)
-        except ValueError:
-            pass
-    return ok
+    """The methods that apply (:meth:`~terrabench.systems.base.System.applies`) to at least one
+    instance of ``group`` (or of ``instances``; neither: the default group)."""
+    ids = list(instances) if instances else instances_of(sysobj, group if group is not None else sysobj.default_group)
+    return [m for m in sysobj.methods() if any(sysobj.applies(m, i) for i in ids)]
 
 
 def system_tables(sysobj: Any) -> list[Any]:

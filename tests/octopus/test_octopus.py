@@ -6,7 +6,7 @@ import pytest
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.sim.scene import compile_scene
 from terrabench.systems.octopus import arm_kinematics as ak
-from terrabench.systems.octopus import clm
+from terrabench.systems.octopus import clm, rules
 from terrabench.systems.octopus.robot import RobotConfig
 from terrabench.systems.octopus.scenarios import SYSTEM
 from terrabench.systems.octopus.sensing import FIELDS, Observation
@@ -37,48 +37,48 @@ def test_sensing_boundary():
 
 def test_terrain_case_and_height():
     s = (0.05, 0.45, 0.45)
-    assert clm.terrain_case(np.array([0.0, 0.01, 0.0, -0.01]), s) == clm.FLAT
-    assert clm.terrain_case(np.array([0.4, 0.4, 0.0, 0.0]), s) == clm.UP
-    assert clm.terrain_case(np.array([-0.2, -0.2, 0.0, 0.0]), s) == clm.DOWN
-    assert clm.terrain_case(np.array([0.4, 0.0, 0.0, 0.0]), s) == clm.UNDETECTABLE
-    assert clm.step_height(np.array([0.4, 0.4, 0.0, 0.0])) == pytest.approx(0.4)
+    assert rules.terrain_case(np.array([0.0, 0.01, 0.0, -0.01]), s) == rules.FLAT
+    assert rules.terrain_case(np.array([0.4, 0.4, 0.0, 0.0]), s) == rules.UP
+    assert rules.terrain_case(np.array([-0.2, -0.2, 0.0, 0.0]), s) == rules.DOWN
+    assert rules.terrain_case(np.array([0.4, 0.0, 0.0, 0.0]), s) == rules.UNDETECTABLE
+    assert rules.step_height(np.array([0.4, 0.4, 0.0, 0.0])) == pytest.approx(0.4)
 
 
 def test_flipper_rule():
-    assert clm.flipper_rule(0.5, 10.0, 40, 0.02, 1.48, 0.02) == (0.5, "low")
-    assert clm.flipper_rule(0.5, -60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.52), "high")
-    assert clm.flipper_rule(0.5, 60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.48), "high")
-    assert clm.flipper_rule(1.49, 0.0, 40, 0.02, 1.48, 0.02)[1] == "limit"
+    assert rules.flipper_rule(0.5, 10.0, 40, 0.02, 1.48, 0.02) == (0.5, "low")
+    assert rules.flipper_rule(0.5, -60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.52), "high")
+    assert rules.flipper_rule(0.5, 60.0, 40, 0.02, 1.48, 0.02) == (pytest.approx(0.48), "high")
+    assert rules.flipper_rule(1.49, 0.0, 40, 0.02, 1.48, 0.02)[1] == "limit"
 
 
 def test_cog_height_travel_and_climb_rule():
     rear = np.array([[-0.4, 0.5, -0.55], [-0.4, -0.5, -0.55]])
-    assert clm.cog_height(rear, 0.05) == pytest.approx(0.5)
-    assert clm.travel(0.0, 0.1, 0.0, 0.02) == pytest.approx(0.002)
-    assert clm.travel(0.0, 0.1, np.pi / 3, 0.02) == pytest.approx(0.001)
-    b, f, rel = clm.climb_rule(0.1, 0.0, 0.2, 0.4, 0.0, 0.3, 0.05, 0.05, 0.0)
+    assert rules.cog_height(rear, 0.05) == pytest.approx(0.5)
+    assert rules.travel(0.0, 0.1, 0.0, 0.02) == pytest.approx(0.002)
+    assert rules.travel(0.0, 0.1, np.pi / 3, 0.02) == pytest.approx(0.001)
+    b, f, rel = rules.climb_rule(0.1, 0.0, 0.2, 0.4, 0.0, 0.3, 0.05, 0.05, 0.0)
     assert (b, f, rel) == (pytest.approx(0.15), pytest.approx(-0.05), False)
-    b, f, rel = clm.climb_rule(0.1, -0.2, 0.5, 0.4, 0.35, 0.3, 0.05, 0.05, 0.0)
+    b, f, rel = rules.climb_rule(0.1, -0.2, 0.5, 0.4, 0.35, 0.3, 0.05, 0.05, 0.0)
     assert (b, f, rel) == (pytest.approx(0.05), pytest.approx(-0.15), True)
 
 
 def test_arm_stop_cases_and_contact():
     t = np.array([0.75, 0.55, -0.05])
-    assert clm.arm_stop_case(np.array([0.5, 0.55, -0.05]), t, 0.1, 0.08) == "blocked"
-    assert clm.arm_stop_case(np.array([0.74, 0.55, 0.35]), t, 0.1, 0.08) == "on-top"
-    assert clm.arm_stop_case(np.array([0.74, 0.55, -0.3]), t, 0.1, 0.08) == "pit"
-    assert clm.arm_stop_case(np.array([0.74, 0.55, -0.04]), t, 0.1, 0.08) == "reached"
-    assert clm.contact_detected(30.0, 5.0, 20.0) and not clm.contact_detected(10.0, 5.0, 20.0)
+    assert rules.arm_stop_case(np.array([0.5, 0.55, -0.05]), t, 0.1, 0.08) == "blocked"
+    assert rules.arm_stop_case(np.array([0.74, 0.55, 0.35]), t, 0.1, 0.08) == "on-top"
+    assert rules.arm_stop_case(np.array([0.74, 0.55, -0.3]), t, 0.1, 0.08) == "pit"
+    assert rules.arm_stop_case(np.array([0.74, 0.55, -0.04]), t, 0.1, 0.08) == "reached"
+    assert rules.contact_detected(30.0, 5.0, 20.0) and not rules.contact_detected(10.0, 5.0, 20.0)
 
 
 def test_transfer_phases():
     q = np.array([0.0, 0.0, 1.0])
-    ph, c = clm.transfer_step(1, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    ph, c = rules.transfer_step(1, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
     assert ph == 1 and c[1] < 0 and c[2] < 1.0          # lifting: boom up, elbow straightens
-    ph, c = clm.transfer_step(1, np.array([0.0, -0.6, 0.3]), c, np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    ph, c = rules.transfer_step(1, np.array([0.0, -0.6, 0.3]), c, np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
     assert ph == 2
     q = np.array([0.0, -0.6, 0.3])
-    ph, c = clm.transfer_step(2, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
+    ph, c = rules.transfer_step(2, q, q.copy(), np.array([0.9, 0.3, 1.2]), -0.6, 0.04, 0.04, 0.15)
     assert ph == 2 and c[0] == pytest.approx(0.04)       # swinging forward
 
 
@@ -167,11 +167,11 @@ def test_clm_climbs_and_ccm_limits():
 
 
 def test_steer_turns_back_to_the_start_heading():
-    assert clm.steer(0.1, 0.0, 0.2, 0.03) == (0.1, 0.1)
-    vl, vr = clm.steer(0.1, 0.05, 0.2, 0.03)           # turned left: the left side speeds up
+    assert rules.steer(0.1, 0.0, 0.2, 0.03) == (0.1, 0.1)
+    vl, vr = rules.steer(0.1, 0.05, 0.2, 0.03)           # turned left: the left side speeds up
     assert vl > 0.1 > vr and vl - 0.1 == pytest.approx(0.01)
-    assert clm.steer(0.1, -1.0, 0.2, 0.03) == (pytest.approx(0.07), pytest.approx(0.13))  # capped
-    assert clm.steer(0.0, 0.1, 0.2, 0.03) == (pytest.approx(0.02), pytest.approx(-0.02))  # in place
+    assert rules.steer(0.1, -1.0, 0.2, 0.03) == (pytest.approx(0.07), pytest.approx(0.13))  # capped
+    assert rules.steer(0.0, 0.1, 0.2, 0.03) == (pytest.approx(0.02), pytest.approx(-0.02))  # in place
 
 
 def test_gyro_heading_follows_the_true_yaw():

@@ -3,10 +3,13 @@
 import numpy as np
 import pytest
 
+from terrabench.sim.checks import HALT
 from terrabench.systems.base import Transition
 from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.control import RoverController, Step, SupervisorConfig
+from terrabench.systems.srwmr.config import SupervisorConfig
+from terrabench.systems.srwmr.control import RoverController
 from terrabench.systems.srwmr.ik import IKLimits
+from terrabench.systems.srwmr.modes import Step
 from terrabench.systems.srwmr.robot import RobotConfig
 from terrabench.systems.srwmr.scenarios import SYSTEM
 
@@ -64,7 +67,7 @@ def test_health_monitor_halts_wrm_at_slip_096():
         cmd = c(Obs(t, v=0.0))
         if cmd.stop:
             break
-    assert cmd.stop.startswith("health halt")
+    assert cmd.stop.kind == HALT and cmd.stop.reason.startswith("health halt")
     assert c.events[-1].dst == "HALT" and "0.96" in c.events[-1].reason
     assert t < 30.0
 
@@ -81,7 +84,7 @@ def test_unknown_mode_in_a_plan():
     [
         ({"instances": ["t99"]}, "unknown srwmr instance"),
         ({"methods": ["walk"], "instances": ["t1-loose"]}, "walk"),
-        ({"methods": ["rcm"], "instances": ["t1-loose"]}, "valid: t1-loose: wrm"),
+        ({"methods": ["rcm"], "instances": ["t1-loose"]}, "rcm applies to t1-loose; methods that apply there: wrm"),
         ({"instances": ["t1-loose"], "overrides": {"scene.clearance": 0.7}}, r"scene.clearance.*\[0.15, 0.55\]"),
         ({"instances": ["t1-loose"], "overrides": {"soil.preset": "mud"}}, "soil.preset.*very_loose"),
         ({"instances": ["t1-loose"], "overrides": {"robot.wheel_offset": 0.5}}, r"\[0, 0.3\]"),

@@ -12,9 +12,10 @@ from terrabench.sim.episode import Episode
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr import legged
 from terrabench.systems.srwmr.config import SRWMRConfig
-from terrabench.systems.srwmr.control import RoverController, Step
+from terrabench.systems.srwmr.control import RoverController
 from terrabench.systems.srwmr.kinematics import axle_positions, level_zeta, lift_height
 from terrabench.systems.srwmr.layouts import LEGGED_TASKS, T6_PILE, layout
+from terrabench.systems.srwmr.modes import Step
 from terrabench.systems.srwmr.robot import WHEELS, Names, RobotConfig
 from terrabench.systems.srwmr.scenarios import SYSTEM
 from terrabench.systems.srwmr.task import SRWMRTask

@@ -9,7 +9,8 @@ import pytest
 
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr import layouts as lay
-from terrabench.systems.srwmr.control import RoverController, Step, SupervisorConfig
+from terrabench.systems.srwmr.config import SupervisorConfig
+from terrabench.systems.srwmr.control import RoverController
 from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.kinematics import (
     STEER_HYSTERESIS,
@@ -22,6 +23,7 @@ from terrabench.systems.srwmr.kinematics import (
     wheelbase_front_middle,
 )
 from terrabench.systems.srwmr.metrics import along_command, body_slip, windowed_slip
+from terrabench.systems.srwmr.modes import Step
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
 from terrabench.systems.srwmr.scenarios import SYSTEM
 
@@ -156,10 +158,10 @@ def test_t9_paths_end_at_b_avoiding_the_obstacle():
 def test_wcm_crab_steers_to_the_direction_of_dx_dy():
     c = _ctl([Step("WCM", v=0.015, dx=3.0, dy=2.0)])
     cmd = c(Obs(0.0))
-    assert c.mu_goal == pytest.approx(np.full(6, math.atan2(2.0, 3.0)))
+    assert c.steer_goal == pytest.approx(np.full(6, math.atan2(2.0, 3.0)))
     assert np.all(cmd.u == 0)  # steering in place first
     # steered: the crab moves along the line once MC#7 has ramped the forward speed up (~3 s)
-    c.phase, c.y_start = 1, 0.0
+    c.action.phase, c.action.y_start = 1, 0.0
     for k in range(400):
         cmd = c(Obs(5.0 + 0.01 * k, mu=cmd.steer if k else np.full(6, math.atan2(2.0, 3.0))))
     assert math.atan2(cmd.u[1], cmd.u[0]) == pytest.approx(math.atan2(2.0, 3.0), abs=1e-6)

@@ -63,7 +63,10 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
     """Trial specs of ``system`` for (methods x instances x seeds), seed-major.
 
     ``methods=["all"]`` means every method; ``instances`` and ``group`` are exclusive; with
-    neither, the system's ``default_group``.
+    neither, the system's ``default_group``. Only pairs the system says apply
+    (:meth:`~terrabench.systems.base.System.applies`) are planned, each checked by its
+    ``check_trial`` before any simulation; a request in which no pair applies is an error naming
+    the methods that do.
     """
     if not isinstance(seeds, int) or seeds < 1:
         raise ValueError(f"seeds must be an integer >= 1, got {seeds!r}")
@@ -84,14 +87,18 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
     else:
         chosen = system.instances(group if group is not None else system.default_group)
     cfg = system.resolve_config(overrides)
+    pairs = [(mid, inst) for inst in chosen for mid in mids if system.applies(mid, inst)]
+    if not pairs:
+        where = list(chosen) if len(chosen) <= 6 else list(chosen)[:6] + ["..."]
+        valid = [m for m in known if any(system.applies(m, i) for i in chosen)]
+        raise ValueError(f"no {system.id} method among {', '.join(mids)} applies to {', '.join(where)}; "
+                         f"methods that apply there: {', '.join(valid) or 'none'}")
     out: list[TrialSpec] = []
     planned: list[tuple[str, str, dict[str, Any], range]] = []
-    for inst in chosen:
-        for mid in mids:
-            c = system.trial_config(mid, inst, cfg)
-            planned.append((mid, inst, c, system.seeds_for(mid, inst, c, seeds)))
-    if not planned:
-        raise ValueError(f"no {system.id} trial matches methods {mids} on instances {list(chosen)[:6]}...")
+    for mid, inst in pairs:
+        system.check_trial(mid, inst, cfg)
+        c = system.trial_config(mid, inst, cfg)
+        planned.append((mid, inst, c, system.seeds_for(mid, inst, c, seeds)))
     for seed in range(seeds):
         for mid, inst, c, ss in planned:
             if seed in ss:

@@ -299,6 +299,6 @@ def cut_at(system: Any, spec: Any, seconds: float) -> Any:
     *path, last = key.split(".")
     for part in path:
         node = node.setdefault(part, {})
-    now = node.get(last)  # None or <= 0: no limit of its own (e.g. srwmr's 0 = the instance's own)
-    node[last] = float(seconds) if now is None or not float(now) > 0 else min(float(now), float(seconds))
+    now = node.get(last)  # None: the spec carries no limit of its own
+    node[last] = float(seconds) if now is None else min(float(now), float(seconds))
     return dataclasses.replace(spec, config=config)

@@ -1,13 +1,15 @@
-"""Stop rules every system shares, written once: turned over, fallen, stalled.
+"""Stop rules every system shares, written once: turned over, fallen, stalled, past the goal
+line, a controller's stop request (its plan complete, a health halt).
 
 Each rule returns ``(status, reason)`` when it fires and None otherwise, the shape a task's
-``check`` returns (:class:`terrabench.systems.base.Task`). Statuses are the shared ones of
-:data:`terrabench.benchmark.trial.STATUSES`.
+``check`` returns (:class:`terrabench.systems.base.Task`); a task's ``check`` is the sequence of
+its rules. Statuses are the shared ones of :data:`terrabench.benchmark.trial.STATUSES`.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 from terrabench.sim.stall import StallWatch
 
@@ -50,3 +52,40 @@ class Stalled:
         if self.watch.update(t, x, y, d):
             return "stuck", self.watch.reason() + (f" ({where})" if where else "")
         return None
+
+
+#: kinds of :class:`StopRequest`: the controller gave up (a health monitor) / its plan is complete
+HALT, DONE = "halt", "done"
+
+
+@dataclass(frozen=True)
+class StopRequest:
+    """A controller's request to end the episode (carried by its command): ``kind`` :data:`HALT`
+    or :data:`DONE`, and one line a reader understands."""
+
+    kind: str
+    reason: str
+
+    def __post_init__(self) -> None:
+        if self.kind not in (HALT, DONE):
+            raise ValueError(f"StopRequest kind {self.kind!r}; valid: {HALT}, {DONE}")
+
+
+def past_goal(x: float, goal: float | None, what: str = "chassis") -> tuple[str, str] | None:
+    """``success`` once ``x`` (m, along the task's axis) reaches the goal line (None: no line)."""
+    if goal is not None and x >= goal:
+        return "success", f"{what} past x = {goal:.2f} m"
+    return None
+
+
+def requested_stop(stop: StopRequest | None, x: float, goal: float | None, tol: float) -> tuple[str, str] | None:
+    """The outcome of a controller's stop request: a halt is ``stuck``; a completed plan is
+    ``success`` if it ended within ``tol`` (m) of the goal line (or there is none), else ``stuck``
+    short of it."""
+    if stop is None:
+        return None
+    if stop.kind == HALT:
+        return "stuck", stop.reason
+    if goal is None or x >= goal - tol:
+        return "success", stop.reason
+    return "stuck", f"{stop.reason} short of the goal (x {x:.2f} < {goal:.2f} m)"

@@ -118,6 +118,46 @@ class Transition:
         return cls(float(t), str(src), str(dst), str(rest[0]) if rest else "")
 
 
+class ModeMachine:
+    """The current mode of a controller with discrete modes, and every change of it.
+
+    A controller holds one machine and changes mode only through :meth:`go`, so the record of
+    transitions (``info()["events"]``, the reports' mode timelines) cannot miss a change or
+    record one that did not happen. Modes are named by strings, or by codes with ``names``
+    mapping each code to its name (a controller that logs its mode as a number).
+    :meth:`note` records an event that is not a change of the machine's mode (a sub-state of
+    one limb, a guard firing inside a mode).
+    """
+
+    __slots__ = ("state", "events", "_names")
+
+    def __init__(self, initial: Any, names: Mapping[Any, str] | None = None) -> None:
+        self.state = initial
+        self.events: list[Transition] = []
+        self._names = names
+
+    def name(self, state: Any = None) -> str:
+        """The name of ``state`` (default: the current one)."""
+        s = self.state if state is None else state
+        return self._names[s] if self._names is not None else str(s)
+
+    def go(self, t: float, dst: Any, reason: str = "") -> bool:
+        """Enter ``dst`` at ``t`` (s) for ``reason``; True if that was a change (it is recorded)."""
+        if dst == self.state:
+            return False
+        self.events.append(Transition(t, self.name(), self.name(dst), reason))
+        self.state = dst
+        return True
+
+    def note(self, t: float, src: str, dst: str, reason: str = "") -> None:
+        """Record an event that leaves the machine's mode as it is."""
+        self.events.append(Transition(t, src, dst, reason))
+
+    def info(self) -> dict[str, Any]:
+        """``{"events": [...]}`` (:func:`events_info`) for the controller's ``info()``."""
+        return events_info(self.events)
+
+
 def events_info(events: Sequence[Transition]) -> dict[str, Any]:
     """``{"events": [...]}`` for a controller's ``info()``: the transitions as JSON lists."""
     return {"events": [e.as_list() for e in events]}
@@ -199,6 +239,16 @@ class System:
     def scenario(self, method: str, instance: str) -> str:
         """The versioned scenario id a trial belongs to."""
         raise NotImplementedError
+
+    def applies(self, method: str, instance: str) -> bool:
+        """Whether ``method`` can run on ``instance``. The planner keeps only such pairs and
+        ``terrabench list`` shows them per group; default: every pair."""
+        return True
+
+    def check_trial(self, method: str, instance: str, cfg: Any) -> None:
+        """ValueError (one line naming the bad value and the valid ones) when ``cfg`` cannot run
+        ``method`` on ``instance``; called by the planner for every planned pair before any
+        simulation. Default: nothing to check beyond the config's own fields and relations."""
 
     def trial_config(self, method: str, instance: str, cfg: Any) -> dict[str, Any]:
         """The config stored with (and hashed into) a trial: by default the whole resolved one."""

@@ -41,6 +41,18 @@ class BeamsSystem(System):
     def methods(self) -> dict[str, MethodInfo]:
         return {m: MethodInfo(m, text, ("beams",) + _sc.METHOD_GROUP[m]) for m, text in _sc.METHODS.items()}
 
+    def instances(self, group: str | None) -> list[str]:
+        """Instance ids of ``group`` (None or ``"all"``: every group's, in group order)."""
+        if group in (None, "all"):
+            return [i for g in _sc.GROUPS for i in _sc.INSTANCES[g]]
+        if group not in _sc.INSTANCES:
+            raise ValueError(f"unknown beams group {group!r}; valid: {', '.join(_sc.GROUPS)}, all")
+        return list(_sc.INSTANCES[group])
+
+    def applies(self, method: str, instance: str) -> bool:
+        """A method runs on the instances of its groups (:data:`scenarios.METHOD_GROUP`)."""
+        return any(instance in _sc.INSTANCES[g] for g in _sc.METHOD_GROUP.get(method, ()))
+
     def plan(self, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
              group: str | None = None, seeds: int = 1, overrides: dict[str, Any] | None = None) -> list[TrialSpec]:
         """Trial specs for ``group`` (estimation, traversal, open-loop, delay, experiment,

@@ -16,99 +16,17 @@ CCM trials: rear arms lifted, front arms at their original pose.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from terrabench.config import param
-from terrabench.systems.base import Transition, events_info
-from terrabench.systems.octopus.clm import Command, flipper_rule, steer
+from terrabench.systems.base import ModeMachine, Transition
+from terrabench.systems.octopus.controller_config import CCMConfig
 from terrabench.systems.octopus.robot import RobotConfig
+from terrabench.systems.octopus.rules import Command, flipper_rule, steer
 
 APPROACH, PRESS, PUSH, FLATTEN, ABORT, BACK_OFF = 0, 1, 2, 3, 4, 5
 MODE_NAMES = {APPROACH: "approach", PRESS: "press", PUSH: "push", FLATTEN: "flatten", ABORT: "abort",
               BACK_OFF: "back-off"}
-
-
-@dataclass(frozen=True)
-class CCMConfig:
-    """CCM parameters.
-
-    Attributes:
-        track_speed: crawler speed (m/s).
-        front_approach: front flipper angle while approaching (rad), held; 0.05 rad below the cap
-            a0, so reaching the cap means an edge lifted the flipper.
-        settle_time: the torque rule ignores the flippers' own (self-caused) torque until they
-            have been within ``settle_tol`` of their command this long (s).
-        settle_tol: rad.
-        t0, d_a, a0, d_b: the paper's flipper torque rule (N m, rad/tick, rad, rad/tick); the
-            limit a0 is the climbing angle here (57 deg), not the joint's 85 deg: a flipper raised
-            to 85 deg stands like a wall against the riser and the crawler stalls; at 57 deg its
-            driving underside meets the edge of any step below its tip (about 0.3 m).
-        press_pitch: pitch that starts pressing the front flippers down (rad).
-        front_press: lowest front flipper target while pressing (rad) (the target is -pitch:
-            flippers level on the top); rear_push: rear flipper target
-            while pushing (rad, < 0 pushes the rear up).
-        push_pitch: pitch above which the rear flippers push (rad).
-        flatten_pitch: while pushing, the rear flippers relax below this pitch (rad).
-        level_time: level (|pitch| < 0.05 rad) this long while pushing = on the top: flatten (s).
-        abort_pitch: pitch at which the climb is aborted whatever the geometry (rad); at the task's
-            turned-over threshold (1.2 rad), which ends the episode on the same tick, so at defaults
-            the abort comes from the tip-back condition (``tip_back``).
-        tip_back: abort once the nose-up pitch reaches the static tip-back angle over the rearmost
-            ground contact (:func:`tip_back_angle`); measured on step-400: the fall starts there
-            (pitch rate 0.2 -> 1 rad/s between 0.95 and 1.15 rad) and an abort at 0.7-1.0 rad still
-            turns over, one at 0.6 rad stops the robot (stuck).
-        cog_z: COG height above the main-track pulley axis in {R} (m): the chassis (56 kg at
-            0.06 m) with the arms (20 kg about the 0.15 m mounts) over ~94 kg; the paper treats
-            the COG as fixed and low in the chassis.
-        stall_time: pressing or pushing this long without a new pitch peak (> 0.02 rad) is a stall (s).
-        back_time: a stall backs off at -track_speed this long, then approaches again (s).
-        retries: back-offs before the controller keeps pushing to the end.
-        retry_pitch: each retry presses only once the pitch exceeds press_pitch + tries x this
-            (rad): the nose rears higher so the flippers can hook over a higher edge.
-        heading_gain, heading_dv: the heading hold, as in CLM (:func:`clm.steer`).
-        d_flip: flipper step toward a target per 0.02 s tick (rad).
-        stowed_arm: (swing, boom, elbow) of the front arms (rad): the original pose, every joint 0 (the
-            paper keeps the front arms "in the original positions"); lifted_arm of the rear arms.
-    """
-
-    track_speed: float = param(0.1, gt=0, unit="m/s", doc="crawler speed")
-    front_approach: float = param(0.95, ge=-math.pi, le=math.pi, unit="rad",
-                                  doc="front flipper angle held while approaching")
-    settle_time: float = param(0.5, ge=0, unit="s",
-                               doc="flippers within settle_tol this long before the torque rule counts")
-    settle_tol: float = param(0.05, gt=0, unit="rad", doc="flipper settle tolerance")
-    t0: float = param(40.0, gt=0, unit="N m", doc="flipper torque threshold of the paper's rule")
-    d_a: float = param(0.02, gt=0, unit="rad/tick", doc="flipper raise step of the torque rule")
-    a0: float = param(1.0, ge=-math.pi, le=math.pi, unit="rad", doc="flipper climbing angle limit of the torque rule")
-    d_b: float = param(0.02, gt=0, unit="rad/tick", doc="flipper lower step of the torque rule")
-    press_pitch: float = param(0.15, ge=0, le=math.pi / 2, unit="rad",
-                               doc="pitch that starts pressing the front flippers down")
-    front_press: float = param(-0.4, ge=-math.pi, le=math.pi, unit="rad",
-                               doc="lowest front flipper target while pressing")
-    rear_push: float = param(-0.9, ge=-math.pi, le=math.pi, unit="rad",
-                             doc="rear flipper target while pushing (< 0 pushes the rear up)")
-    push_pitch: float = param(0.3, ge=0, le=math.pi / 2, unit="rad", doc="pitch above which the rear flippers push")
-    flatten_pitch: float = param(0.1, ge=0, le=math.pi / 2, unit="rad",
-                                 doc="while pushing, the rear flippers relax below this pitch")
-    level_time: float = param(1.0, ge=0, unit="s", doc="level this long while pushing = on the top")
-    abort_pitch: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="pitch at which the climb is aborted")
-    tip_back: bool = param(True, doc="abort at the static tip-back angle over the rearmost ground contact")
-    cog_z: float = param(0.07, ge=0, unit="m", doc="COG height above the main-track pulley axis")
-    stall_time: float = param(6.0, gt=0, unit="s",
-                              doc="pressing or pushing this long without a new pitch peak is a stall")
-    back_time: float = param(3.0, ge=0, unit="s", doc="a stall backs off this long, then approaches again")
-    retries: int = param(2, ge=0, doc="back-offs before the controller keeps pushing to the end")
-    retry_pitch: float = param(0.3, ge=0, unit="rad", doc="extra press pitch per retry")
-    heading_gain: float = param(0.2, ge=0, unit="m/s/rad",
-                                doc="crawler speed difference per rad of heading error (0: no heading hold)")
-    heading_dv: float = param(0.03, ge=0, unit="m/s", doc="largest crawler speed difference of the heading hold")
-    d_flip: float = param(0.03, gt=0, unit="rad/tick", doc="flipper step toward a target per tick")
-    stowed_arm: tuple[float, float, float] = param((0.0, 0.0, 0.0), length=3, ge=-math.pi, le=math.pi, unit="rad",
-                                                   doc="(swing, boom, elbow) of the front arms")
-    lifted_arm: tuple[float, float, float] = param((-1.2, -1.1, 2.4), length=3, ge=-math.pi, le=math.pi, unit="rad",
-                                                   doc="(swing, boom, elbow) of the rear arms")
 
 
 def tip_back_angle(q_rear: float, pitch: float, robot: RobotConfig, cog_z: float) -> float:
@@ -136,7 +54,6 @@ class CCMController:
         self.cmd.arm[:2] = cfg.stowed_arm
         self.cmd.arm[2:] = cfg.lifted_arm
         self.cmd.flip[:] = [cfg.front_approach, cfg.front_approach, 0.0, 0.0]
-        self.state = APPROACH
         self.peak = 0.0
         self.peak_t = 0.0
         self.level_t = 0.0
@@ -145,14 +62,22 @@ class CCMController:
         self.tries = 0
         self.tau_ref = np.zeros(2)
         self.heading = 0.0  # integrated gyro yaw rate (rad), as in CLM
-        self.events: list[Transition] = []
+        self.machine = ModeMachine(APPROACH, MODE_NAMES)  # the controller state; records every change
+
+    @property
+    def state(self) -> int:
+        """The controller state (a code of :data:`MODE_NAMES`)."""
+        return self.machine.state
+
+    @property
+    def events(self) -> list[Transition]:
+        return self.machine.events
 
     def info(self) -> dict:
-        return events_info(self.events)
+        return self.machine.info()
 
     def _goto(self, t: float, dst: int, reason: str) -> None:
-        self.events.append(Transition(t, MODE_NAMES[self.state], MODE_NAMES[dst], reason))
-        self.state = dst
+        self.machine.go(t, dst, reason)
 
     def _toward(self, i: int, target: float) -> None:
         c = self.cmd.flip

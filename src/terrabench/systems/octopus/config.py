@@ -8,8 +8,7 @@ from typing import ClassVar
 
 from terrabench.config import Relation, check_fields, ge, le, multiple_of, ordered, param
 from terrabench.sim.physics import PhysicsConfig
-from terrabench.systems.octopus.ccm import CCMConfig
-from terrabench.systems.octopus.clm import CLMConfig
+from terrabench.systems.octopus.controller_config import CCMConfig, CLMConfig
 from terrabench.systems.octopus.robot import RobotConfig
 
 

@@ -22,7 +22,7 @@ import numpy as np
 from gymnasium import spaces
 
 from terrabench.envs.adapter import box as _box
-from terrabench.systems.octopus.clm import Command
+from terrabench.systems.octopus.rules import Command
 
 #: bound of the track-speed actions (m/s); the controllers drive at 0.06-0.1 m/s
 TRACK_LIMIT = 0.3

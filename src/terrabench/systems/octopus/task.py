@@ -17,9 +17,9 @@ import numpy as np
 from terrabench.sim.checks import Stalled, turned_over
 from terrabench.sim.episode import Timing
 from terrabench.systems.base import TaskBase
-from terrabench.systems.octopus.clm import Command
 from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
+from terrabench.systems.octopus.rules import Command
 from terrabench.systems.octopus.sensing import Observation, roll_pitch
 from terrabench.systems.octopus.stability import stability_margin
 from terrabench.terrain import pieces

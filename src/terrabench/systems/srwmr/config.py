@@ -8,10 +8,32 @@ from typing import ClassVar
 from terrabench.config import Relation, check_fields, ge, multiple_of, ordered, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
-from terrabench.systems.srwmr.control import SupervisorConfig
 from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.robot import RobotConfig
 from terrabench.systems.srwmr.soils import SOIL_NAMES
+
+
+@dataclass(frozen=True)
+class SupervisorConfig:
+    """Supervisor and scripted-operator settings (sec. 7)."""
+
+    reply_s: float | None = param(2.0, ge=0.0, le=600.0, unit="s", optional=True,
+                                  doc="the scripted operator answers a reminder after this (null: never answers)")
+    wait_s: float = param(10.0, gt=0.0, le=600.0, unit="s", doc="an unanswered reminder reverses the mode after this")
+    eff_window: float = param(20.0, gt=0.0, le=600.0, unit="s", doc="climbing-efficiency window")
+    eff_min: float = param(0.10, ge=0.0, le=1.0, doc="WRM -> RCM below this climbing efficiency [S 10 %]")
+    health_slip: float = param(0.96, gt=0.0, le=1.0, doc="body-slip health limit [S 0.96]")
+    health_s: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="the health limit must hold this long")
+    slip_tau: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="time constant of the body-slip estimate")
+    steer_tol: float = param(0.05, gt=0.0, le=1.0, unit="rad", doc="wheels roll once steering errors are below this")
+    rcm_rim_ratio: float = param(7.0 / 3.6, ge=0.0, le=20.0,
+                                 doc="RCM rolling-set rim speed per unit chassis vertical speed, a floor over "
+                                     "the kinematic speed [S Task 4: 'the velocities of the middle and rear "
+                                     "wheels are set to 7.0 mm/s ... when the command velocity of the robot "
+                                     "chassis is 3.6 mm/s']")
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -54,7 +76,9 @@ class ProtocolConfig:
     """Clock and stop rules."""
 
     control_period: float = param(0.01, gt=0.0, le=0.1, unit="s", doc="controller period [S Ts = 0.01 s]")
-    timeout: float = param(0.0, ge=0.0, le=20000.0, unit="s", doc="simulated time limit (0 = the instance's own)")
+    timeout: float | None = param(None, gt=0.0, le=20000.0, unit="s", optional=True,
+                                  doc="simulated time limit; null = the instance's own, written into the "
+                                      "stored config at planning (every trial carries a number)")
     log_period: float = param(0.5, gt=0.0, le=10.0, unit="s", doc="stored series period")
     check_period: float = param(1.0, gt=0.0, le=10.0, unit="s", doc="slow check period")
     turn_over: float = param(0.7, gt=0.1, le=1.5, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")

@@ -4,7 +4,7 @@ Seed 001, sec. 3.1 and Tasks 6/7: "the wheels are lifted by controlling the acti
 motion and the connection of the clutch positioned at the hinge of the actively and passively
 articulated suspensions. ... when the robot body's CoM is positioned in the front or rear of the
 body box, the rear or front wheels can be lifted, respectively. In addition, the CoM does not
-affect the lifting of the middle wheel." One legged :class:`~terrabench.systems.srwmr.control.Step`
+affect the lifting of the middle wheel." One legged :class:`~terrabench.systems.srwmr.modes.Step`
 runs the actions of Fig. 5 for one wheel (SWLM) or one pair at the same position (DWLM):
 
 ``shift``   change the clearance so the side's load point moves behind the middle wheel (front
@@ -169,6 +169,7 @@ class LeggedAction:
         self.best = (-1.0, obs.t)
         self.touch_t = None
         self.rate = LIFT_SPEED
+        self.reversing = False  # the supervisor's return has begun (:meth:`unwind`)
 
     @property
     def name(self) -> str:
@@ -188,6 +189,34 @@ class LeggedAction:
         if self.name == "release":
             self.lifted = ()
 
+    # ------------------------------------------------------------ the mode protocol (modes.py)
+    def nominal(self, ctl, obs, x: float, y: float, dyaw: float):
+        """This period's :class:`~terrabench.systems.srwmr.modes.Nominal` (levelled, with the clutches)."""
+        from terrabench.systems.srwmr.modes import Nominal
+
+        u, done = self.command(ctl, obs, x)
+        u = self.level(ctl, obs, u)
+        return Nominal(u, done, False, self.lifted, self.clutch)
+
+    def reply(self, ctl, obs) -> bool:
+        """The operator's answer ends the current action (the step goes on), except while restoring."""
+        if self.name == "restore":
+            return False
+        self.advance(obs, "operator replied: action ended")
+        return True
+
+    def unwind(self, ctl, obs):
+        """The supervisor's return: the wheel lowered with the clutch engaged, released, the clearance
+        restored (:meth:`reverse`, then the remaining actions); ``done`` once back."""
+        from terrabench.systems.srwmr.modes import Nominal
+
+        if not self.reversing:
+            self.reverse(obs)
+            self.reversing = True
+        u, back = self.command(ctl, obs, ctl.local(obs)[0])
+        u = self.level(ctl, obs, u)
+        return Nominal(u, back, False, self.lifted, self.clutch)
+
     def command(self, ctl, obs, x: float):
         """(u_nom (5,), done) of this period; sets ``clutch`` and ``lifted`` for the command."""
         st, robot = self.st, self.robot
@@ -197,7 +226,7 @@ class LeggedAction:
             if self.d_shift is None or np.max(np.abs(obs.delta - self.d_shift)) < 0.004:
                 self.advance(obs, "CoM shift done" if self.d_shift is not None else "no CoM shift (middle lift)")
                 return u, False
-            rate = ctl._rate_for(obs, st.vz, self.d_shift)
+            rate = ctl.closing_rate(obs, st.vz, self.d_shift)
             u[3:5] = rate
             return u, False
         if name == "clutch":
@@ -257,7 +286,7 @@ class LeggedAction:
                 self.x0 = None
                 self.advance(obs, f"rolled {st.dist:.2f} m with {'+'.join(self.lift)} lifted")
                 return u, False
-            dyaw = ctl._local(obs)[2]
+            dyaw = ctl.local(obs)[2]
             lim = min(0.02, 0.5 * abs(float(ctl.u_prev[0])))
             # slow down over the last 50 mm (no pitching jolt on the carrying wheels as the roll stops)
             u[0] = st.v * max(0.2, min(1.0, (self.x0 + st.dist - x) / 0.05))
@@ -289,7 +318,7 @@ class LeggedAction:
             if np.max(np.abs(obs.delta - self.d_start)) < 0.004:
                 self.advance(obs, "clearance restored")
                 return u, True
-            u[3:5] = ctl._rate_for(obs, st.vz, float(np.mean(self.d_start)))
+            u[3:5] = ctl.closing_rate(obs, st.vz, float(np.mean(self.d_start)))
             return u, False
         return u, True
 
@@ -314,188 +343,10 @@ class LeggedAction:
         would otherwise roll the chassis by ~atan(h / d_b)."""
         if self.st.mode != "SWLM" or self.name not in ("lift", "roll", "lower"):
             return u
-        J = ctl._J
+        J = ctl.period.J
         o = 1 - self.sides[0]
         dz = max(-(J[o, 2] + J[o + 2, 2] + J[o + 4, 2]) / 3, 0.05)  # hinge rise per closing angle
         dh = self.robot.hinge_track * math.sin(float(obs.rpy[0]))  # left hinge above the right one
         rate = (-1.0 if o == 0 else 1.0) * LEVEL_GAIN * dh / dz
         u[3 + o] = max(-ctl.lim.rate_max, min(ctl.lim.rate_max, rate))
         return u
-
-
-# ---------------------------------------------------------------------------- report (stored rows)
-#: the paper's wheel-load figures while lifted [S Task 6 / Task 7]: W_diff (N) and W_fmr (N) by the
-#: position lifted (None: not stated); nominal wheel load ~380 N [S]
-PAPER_LOADS = {
-    "t6-bricks": {"front": (826, None), "middle": (250, None), "rear": (1050, None)},
-    "t7-stairs": {"front": (1300, 640), "middle": (100, 100), "rear": (1189, 612)},
-}
-PAPER_NOMINAL = {"t6-bricks": "wheel load ~380 N", "t7-stairs": "W_fmr ~100 N, W_diff ~200 N (hard stairs)"}
-#: [S] Tasks 12 and 13: body-slip range during the lifted roll and energy EC (kJ) per trial
-PAPER_ROLL = {
-    ("t12-lift100", "swlm"): ("0.01-0.24", 39.6), ("t12-lift150", "swlm"): ("0.01-0.24", 43.9),
-    ("t12-lift200", "swlm"): ("0.01-0.24, -0.024 seen", 41.5),
-    ("t12-lift100", "dwlm"): ("-0.01-0.27", 42.5), ("t12-lift150", "dwlm"): ("-0.01-0.27", 41.9),
-    ("t12-lift200", "dwlm"): ("-0.01-0.27", 41.8),
-    ("t13-front", "swlm"): ("-0.10-0.14", 41.6), ("t13-middle", "swlm"): ("-0.16-0.10", 23.6),
-    ("t13-rear", "swlm"): ("-0.02-0.21", 20.1),
-    ("t13-front", "dwlm"): ("-0.01-0.21", 41.8), ("t13-middle", "dwlm"): ("peak 0.32", 22.4),
-    ("t13-rear", "dwlm"): ("peak -0.10", 19.4),
-}
-#: [S] the PC observations of Tasks 12/13 (PC = F_DP / F_N per wheel)
-PAPER_PC = {
-    ("t12-lift150", "swlm"): "right rear PC 27.5 (F_N 10 N: nearly suspended)",
-    ("t12-lift200", "swlm"): "both rear PC 32.5 (F_N 8 N)",
-    ("t12-lift100", "swlm"): "left front and left middle PC > 1",
-    ("t12-lift100", "dwlm"): "middle PC ~0.1, rear > 1 then ~0.6",
-    ("t13-middle", "swlm"): "right rear PC > 1; right front, left rear ~0.6; left front, middle ~0.3",
-    ("t13-rear", "swlm"): "left front PC mean 35, peak > 60 (seesaw); left rear 1.6",
-    ("t13-middle", "dwlm"): "rear PC 1-1.25; front 0.2 -> 0.7",
-    ("t13-rear", "dwlm"): "middle PC > 1 then < 1; left front peak 8",
-}
-
-
-def lift_spans(events: list[dict]) -> list[dict]:
-    """Per legged step of a stored trial (``info["legged"]``, entries in order, ``step`` = the plan
-    step): the lifted wheels, when the lift began (clutch engaged), when it ended (wheel up), when
-    the wheel was down again, and the notes."""
-    out: dict[int, dict] = {}
-    for e in events:
-        sp = out.setdefault(e.get("step", 0), {"lift": e["lift"], "pos": position(tuple(e["lift"].split("+")))})
-        key = {"clutch": "t_clutch", "lift": "t_up", "lower": "t_down", "roll": "t_rolled"}.get(e["action"])
-        if key:
-            sp[key] = e["t"]
-        if e["action"] == "lift":
-            sp["lift_note"] = e["note"]
-    return [out[k] for k in sorted(out)]
-
-
-def _loads(ts, ft: bool = False):
-    """(t, W (n, 6)): the soil's normal forces, or (``ft``) the F/T wheel-load estimates the
-    supervisor reads (these include a wheel standing on a rigid step or brick)."""
-    pre = "Wft_" if ft and "Wft_c1" in ts else "W_"
-    W = np.array([np.asarray(ts[f"{pre}{c}"], float) for c in WHEELS]).T
-    return np.asarray(ts["t"], float), W
-
-
-def load_lines(rows, store) -> list[dict]:
-    """T6 / T7: W_diff and W_fmr (truth wheel loads) while each wheel set was up, beside the paper's."""
-    lines = []
-    for r in sorted(rows, key=lambda r: (r["instance"], r["method"], r["seed"])):
-        if r["instance"] not in PAPER_LOADS:
-            continue
-        ts = store.timeseries(r["key"])
-        if not ts or "t" not in ts:
-            continue
-        t, W = _loads(ts, ft=True)
-        wd = W.max(1) - W.min(1)
-        fm = np.maximum(W.max(1) - W.mean(1), W.mean(1) - W.min(1))
-        nom = (t > 1.0) & (t < 5.0)
-        for sp in lift_spans(r["info"].get("legged", [])):
-            up = (t >= sp.get("t_up", np.inf)) & (t <= sp.get("t_down", -np.inf))
-            pdiff, pfmr = PAPER_LOADS[r["instance"]][sp["pos"]]
-            lines.append({
-                "task": r["instance"], "mode": r["method"], "seed": r["seed"], "lifted": sp["lift"],
-                "lift": sp.get("lift_note", "not reached"),
-                "nominal W_diff N": float(np.median(wd[nom])) if nom.any() else float("nan"),
-                "nominal W_fmr N": float(np.median(fm[nom])) if nom.any() else float("nan"),
-                "W_diff max N (up)": float(wd[up].max()) if up.any() else float("nan"),
-                "W_fmr max N (up)": float(fm[up].max()) if up.any() else float("nan"),
-                "W_max N (up)": float(W[up].max()) if up.any() else float("nan"),
-                "paper W_diff N": pdiff, "paper W_fmr N": pfmr if pfmr is not None else "",
-            })
-    return lines
-
-
-def roll_lines(rows, store) -> list[dict]:
-    """T12 / T13: body slip, per-wheel PC = DP / W and energy over the lifted roll, beside the paper's."""
-    lines = []
-    for r in sorted(rows, key=lambda r: (r["instance"], r["method"], r["seed"])):
-        if (r["instance"], r["method"]) not in PAPER_ROLL:
-            continue
-        ts = store.timeseries(r["key"])
-        if not ts or "t" not in ts or "DP_c1" not in ts:
-            continue
-        t, W = _loads(ts)
-        DP = np.array([np.asarray(ts[f"DP_{c}"], float) for c in WHEELS]).T
-        sp = (lift_spans(r["info"].get("legged", [])) or [{}])[0]
-        up = (t >= sp.get("t_up", np.inf)) & (t <= sp.get("t_down", -np.inf))
-        vc = np.asarray(ts["v_cmd"], float)
-        roll = up & (vc > 0.8 * np.nanmax(np.where(up, vc, 0.0))) if up.any() else up
-        with np.errstate(divide="ignore", invalid="ignore"):
-            sb = 1.0 - np.asarray(ts["v"], float)[roll] / vc[roll]
-            pc = np.where(W[roll] > 1.0, DP[roll] / W[roll], np.nan)
-        e = np.asarray(ts["energy"], float) if "energy" in ts else np.full(len(t), np.nan)
-        ps, pe = PAPER_ROLL[(r["instance"], r["method"])]
-        lifted = [WHEELS.index(c) for c in sp.get("lift", "").split("+") if c in WHEELS]
-        others = [i for i in range(6) if i not in lifted]
-        lines.append({
-            "task": r["instance"], "mode": r["method"], "seed": r["seed"], "status": r["status"],
-            "lifted": sp.get("lift", ""), "lift": sp.get("lift_note", "not reached"),
-            "s_b p5-p95 (roll)": f"{np.nanpercentile(sb, 5):.2f} to {np.nanpercentile(sb, 95):.2f}" if len(sb) else "",
-            "PC median c1..c6 (roll)": " ".join("-" if i in lifted else f"{np.nanmedian(pc[:, i]):.2f}"
-                                                for i in range(6)) if len(sb) else "",
-            "least W of the grounded N": float(np.min(W[roll][:, others])) if len(sb) else float("nan"),
-            "energy kJ": float((e[-1] - e[0]) / 1000.0) if len(e) else float("nan"),
-            "paper s_b": ps, "paper EC kJ": pe, "paper PC": PAPER_PC.get((r["instance"], r["method"]), ""),
-        })
-    return lines
-
-
-def report_sections(page, store, rows, slug: str, plt) -> None:
-    """The SWLM / DWLM sections of the srwmr report: T6/T7 wheel loads (tables and W_diff / W_fmr
-    series against MC#10/#11 and the paper's figures), T12/T13 slip, PC and energy."""
-    leg = [r for r in rows if r["method"] in ("swlm", "dwlm")]
-    if not leg:
-        return
-    page.h2("Wheel-legged modes (SWLM / DWLM): lifts, wheel loads, slip and PC")
-    page.p("Lifted heights are the controller's estimate from the encoders and the IMU (SWLM: the axle over the "
-           "opposite wheel's; DWLM: over the line through its side's other two axles). T6/T7/T14 wheel loads are the "
-           "F/T estimates the supervisor reads (they include a wheel on a rigid step); the T12/T13 PC = DP / W uses "
-           "the soil's own forces. W_diff = "
-           "W_max - W_min, W_fmr = max(W_max - mean, mean - W_min) over all six wheels (a lifted wheel counts "
-           "as 0). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 W_fmr <= 700 N [S].")
-    ll = load_lines(leg, store)
-    if ll:
-        page.table(ll, list(ll[0]), csv_name=f"legged_loads{slug}.csv")
-    rl = roll_lines(leg, store)
-    if rl:
-        page.h3("T12 / T13: the lifted roll (900 mm at 25 mm/s)")
-        page.table(rl, list(rl[0]), csv_name=f"legged_roll{slug}.csv")
-    for r in sorted(leg, key=lambda r: (r["instance"], r["method"], r["seed"])):
-        if r["seed"] != min(x["seed"] for x in leg if x["instance"] == r["instance"] and x["method"] == r["method"]):
-            continue
-        if r["instance"] not in PAPER_LOADS and r["instance"] != "t14-obstacle":
-            continue
-        ts = store.timeseries(r["key"])
-        if not ts or "t" not in ts:
-            continue
-        t, W = _loads(ts, ft=True)
-        fig, ax = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
-        for i, c in enumerate(WHEELS):
-            ax[0].plot(t, W[:, i], lw=0.8, label=c)
-        ax[0].axhline(380, color="k", ls=":", lw=0.8, label="paper nominal ~380 N")
-        ax[0].set_ylabel("wheel load N")
-        ax[0].legend(fontsize="x-small", ncol=7)
-        ax[1].plot(t, W.max(1) - W.min(1), label="W_diff")
-        ax[1].plot(t, np.maximum(W.max(1) - W.mean(1), W.mean(1) - W.min(1)), label="W_fmr")
-        lim = 1100 if r["method"] == "swlm" else 1300
-        ax[1].axhline(lim, color="r", ls="--", lw=0.8, label=f"MC#10 {lim} N")
-        ax[1].axhline(700, color="m", ls="--", lw=0.8, label="MC#11 700 N")
-        for pos, (pdiff, _fmr) in PAPER_LOADS.get(r["instance"], {}).items():
-            ax[1].axhline(pdiff, color="gray", ls=":", lw=0.6)
-            ax[1].text(t[0], pdiff, f"paper W_diff {pos} {pdiff}", fontsize=6, va="bottom")
-        for sp in lift_spans(r["info"].get("legged", [])):
-            if "t_up" in sp and "t_down" in sp:
-                for a in ax:
-                    a.axvspan(sp["t_up"], sp["t_down"], color="y", alpha=0.2)
-                ax[0].text(sp["t_up"], ax[0].get_ylim()[1] * 0.9, sp["lift"], fontsize=7)
-        ax[1].set_ylabel("N")
-        ax[1].set_xlabel("t s (shaded: wheel(s) up)")
-        ax[1].legend(fontsize="x-small", ncol=4)
-        fig.suptitle(f"{r['instance']} / {r['method']} seed {r['seed']}: {r['status']} ({r['info'].get('reason', '')})",
-                     fontsize=9)
-        fig.tight_layout()
-        page.figure(fig, f"legged_loads_{r['instance']}_{r['method']}{slug}.png",
-                    f"{r['instance']} / {r['method']}: wheel loads, W_diff and W_fmr beside MC#10/#11 and the paper")
-        plt.close(fig)

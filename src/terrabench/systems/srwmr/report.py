@@ -253,7 +253,7 @@ def _task_sections(page: Any, store: Any, task_rows: list[dict[str, Any]], slug:
     from terrabench.systems.srwmr.report_tasks import add_sections
 
     add_sections(page, store, task_rows, slug, plt, robot)
-    from terrabench.systems.srwmr.legged import report_sections
+    from terrabench.systems.srwmr.report_legged import report_sections
 
     report_sections(page, store, task_rows, slug, plt)  # SWLM / DWLM: T6, T7, T12, T13, T14
 

@@ -3,38 +3,55 @@
 Methods are the locomotion strategies the scripted operator uses: ``wrm`` (wheel rolling),
 ``wcm`` (crabbing), ``rclm`` (chassis lifting), ``rcm`` (creeping, entered from WRM when the
 climbing efficiency drops below 10 %), ``swlm`` / ``dwlm`` (one wheel / a symmetric pair lifted with
-the clutch engaged, :mod:`~terrabench.systems.srwmr.legged`). Each instance lists the methods that apply to it
-(:data:`~terrabench.systems.srwmr.layouts.APPLIES`); planning drops the other pairs.
+the clutch engaged, :mod:`~terrabench.systems.srwmr.legged`). Each instance is registered with
+the methods that apply to it and its time limit (:func:`~terrabench.systems.srwmr.layouts.instance`);
+:meth:`SRWMRSystem.applies` reads the registry, and the planner keeps only the pairs that apply.
+A method says what ends its trial (:attr:`RoverMethod.goal_line`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from terrabench.benchmark.trial import TrialSpec
+from terrabench.config import to_dict
 from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.srwmr.config import SRWMRConfig
+from terrabench.systems.srwmr.layouts import entry, instance_ids, time_limit
 
 SCENARIO = "srwmr/tasks-v1"
 SLOPE_SCENARIO = "srwmr/slopes-v1"
+
+
+@dataclass(frozen=True)
+class RoverMethod(MethodInfo):
+    """A rover method; ``goal_line``: its trial succeeds the moment the chassis passes the
+    instance's goal line (a drive towards it); False: when its plan ends at the goal (a scripted
+    manoeuvre whose last action must be completed, e.g. a crab that steers back, a lowered wheel)."""
+
+    goal_line: bool = False
+
+
 METHODS = {
-    "wrm": MethodInfo(
-        "wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",)
+    "wrm": RoverMethod(
+        "wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",),
+        goal_line=True,
     ),
-    "wcm": MethodInfo("wcm", "wheel crabbing mode: steer +-90 deg, roll sideways, steer back", ("wheels",)),
-    "rclm": MethodInfo(
+    "wcm": RoverMethod("wcm", "wheel crabbing mode: steer +-90 deg, roll sideways, steer back", ("wheels",)),
+    "rclm": RoverMethod(
         "rclm", "robot chassis lifting mode: raise/lower the chassis, wheels coordinated (MC#2)", ("suspension",)
     ),
-    "rcm": MethodInfo(
-        "rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",)
+    "rcm": RoverMethod(
+        "rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",),
+        goal_line=True,
     ),
-    "swlm": MethodInfo(
+    "swlm": RoverMethod(
         "swlm", "single wheel legged mode: CoM shift, clutch, lift one wheel (MC#1), roll, lower, release",
         ("suspension", "clutch"),
     ),
-    "dwlm": MethodInfo(
+    "dwlm": RoverMethod(
         "dwlm", "double wheel legged mode: as SWLM with a symmetric pair (c1+c2, c3+c4, c5+c6)",
         ("suspension", "clutch"),
     ),
@@ -72,54 +89,31 @@ class SRWMRSystem(System):
         return dict(METHODS)
 
     def instances(self, group: str | None) -> list[str]:
-        from terrabench.systems.srwmr.layouts import LEGGED_TASKS, SLOPES, TASKS
+        return instance_ids(None if group == "all" else group)
 
-        if group == "tasks":
-            return list(TASKS) + list(LEGGED_TASKS)
-        if group == "slopes":
-            return list(SLOPES)
-        return list(TASKS) + list(LEGGED_TASKS) + list(SLOPES)
+    def applies(self, method: str, instance: str) -> bool:
+        return entry(instance, method) is not None
 
     def scenario(self, method: str, instance: str) -> str:
-        return SLOPE_SCENARIO if instance.startswith("slope-") else SCENARIO
+        return SLOPE_SCENARIO if entry(instance, method).group == "slopes" else SCENARIO
 
-    def plan(
-        self,
-        *,
-        methods: Sequence[str] | None = None,
-        instances: Sequence[str] | None = None,
-        group: str | None = None,
-        seeds: int = 1,
-        overrides=None,
-    ) -> list[TrialSpec]:
-        from terrabench.systems.srwmr.layouts import APPLIES
+    def check_trial(self, method: str, instance: str, cfg: SRWMRConfig) -> None:
+        """MC#1 on a ``scene.lift`` an instance's builder reads (T12, T13): one line naming the
+        allowed lifts, before any simulation."""
+        from terrabench.systems.srwmr.legged import check_lift
 
-        specs = super().plan(methods=methods, instances=instances, group=group, seeds=seeds, overrides=overrides)
-        kept = [s for s in specs if s.method in APPLIES.get(s.instance, ())]
-        if specs and not kept:
-            asked = sorted({s.instance for s in specs})
-            valid = "; ".join(f"{i}: {', '.join(APPLIES.get(i, ()))}" for i in asked)
-            raise ValueError(f"no requested method applies to the requested instance(s); valid: {valid}")
-        self._check_lifts(kept)
-        return kept
+        lift = cfg.scene.lift
+        if lift and entry(instance, method).uses_lift:
+            try:
+                check_lift(method.upper(), tuple(lift.split("+")))
+            except ValueError as exc:
+                raise ValueError(f"scene.lift={lift!r}: {exc}") from None
 
-    def _check_lifts(self, specs) -> None:
-        """MC#1 and the legged modes' lift rules, before any simulation (one line naming the allowed
-        lifts): each legged trial's plan is built and checked."""
-        from terrabench.systems.srwmr.layouts import layout
-        from terrabench.systems.srwmr.legged import LEGGED, check_lift
-
-        for s in specs:
-            if s.method.upper() not in LEGGED:
-                continue
-            cfg = self.load_config(s.config)
-            lay = layout(s.instance, s.method, cfg.robot, cfg.scene.approach, cfg.scene.lift)
-            for st in lay.plan:
-                if st.mode in LEGGED:
-                    try:
-                        check_lift(st.mode, st.lift)
-                    except ValueError as exc:
-                        raise ValueError(f"scene.lift={cfg.scene.lift!r}: {exc}") from None
+    def trial_config(self, method: str, instance: str, cfg: SRWMRConfig) -> dict[str, Any]:
+        """The whole resolved config, ``protocol.timeout`` the instance's own unless one was set."""
+        out = to_dict(cfg)
+        out["protocol"]["timeout"] = time_limit(cfg, instance, method)
+        return out
 
     def make_task(self, spec: TrialSpec, cfg: SRWMRConfig):
         from terrabench.systems.srwmr.task import SRWMRTask

@@ -15,7 +15,7 @@ import mujoco
 import numba
 import numpy as np
 
-from terrabench.sim.checks import turned_over
+from terrabench.sim.checks import past_goal, requested_stop, turned_over
 from terrabench.sim.episode import Timing
 from terrabench.soil import SoilWheels, flat_ground, hfield_ground
 from terrabench.soil.presets import HIT_MRII_WHEEL
@@ -24,7 +24,7 @@ from terrabench.systems.base import TaskBase
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
-from terrabench.systems.srwmr.layouts import Layout, layout
+from terrabench.systems.srwmr.layouts import Layout, layout, time_limit
 from terrabench.systems.srwmr.legged import apply_clutch
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
@@ -35,6 +35,7 @@ from terrabench.systems.srwmr.robot import (
     add_robot,
     wheel_bodies,
 )
+from terrabench.systems.srwmr.scenarios import METHODS
 from terrabench.systems.srwmr.sensing import Observation
 from terrabench.systems.srwmr.soils import srwmr_soil
 from terrabench.terrain.mjcf import add_heightfield
@@ -55,6 +56,8 @@ assert COLUMNS[12:14] == ("slip", "sinkage") and COLUMNS[20:22] == ("DP", "P_dri
 assert COLUMNS[_ETA_END:] == ("v_lat", "vy_cmd", "wz", "wz_cmd")
 
 
+#: a completed plan counts as reaching the goal line within this (m)
+GOAL_TOL = 0.05
 _NO_U = np.zeros(5)
 _NO_RATIOS = np.zeros(len(mc.NAMES))
 
@@ -146,8 +149,8 @@ class SRWMRTask(TaskBase):
         self.layout: Layout = layout(instance, method, cfg.robot, cfg.scene.approach, cfg.scene.lift)
         pr = cfg.protocol
         self.physics = cfg.physics
-        timeout = pr.timeout or self.layout.timeout
-        self.timing = Timing(pr.control_period, timeout, pr.check_period, pr.log_period)
+        self.goal_line = METHODS[method].goal_line
+        self.timing = Timing(pr.control_period, time_limit(cfg, instance, method), pr.check_period, pr.log_period)
         self.soil = trial_soil(cfg.soil.preset or self.layout.soil, cfg, seed)
         rng = np.random.default_rng(seed)
         sc = cfg.scene
@@ -253,15 +256,10 @@ class SRWMRTask(TaskBase):
         x = float(self.data.xpos[self.chassis, 0])
         goal = self.layout.goal_x
         cmd = self.last_cmd
-        if cmd is not None and cmd.stop:
-            if cmd.stop.startswith("health"):
-                return "stuck", cmd.stop
-            if goal is None or x >= goal - 0.05:
-                return "success", cmd.stop
-            return "stuck", f"{cmd.stop} short of the goal (x {x:.2f} < {goal:.2f} m)"
-        if goal is not None and x >= goal and self.method not in ("wcm", "rclm", "swlm", "dwlm"):
-            return "success", f"chassis past x = {goal:.2f} m"
-        return None
+        stop = requested_stop(None if cmd is None else cmd.stop, x, goal, GOAL_TOL)
+        if stop is not None:
+            return stop
+        return past_goal(x, goal) if self.goal_line else None
 
     def apply(self, cmd) -> None:
         d = self.data

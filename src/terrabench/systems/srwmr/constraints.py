@@ -61,21 +61,11 @@ def mc1_check(lifted) -> None:
 
 @dataclass(frozen=True)
 class Scales:
-    """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md).
-
-    Attributes:
-        v2: MC#2 wheel-suspension speed mismatch scale (m/s).
-        wb_min: MC#3 least front-middle axle distance before the wheels touch: 2 r + 50 mm (m).
-        dh: MC#4 left-right hinge-height asymmetry scale (m).
-        dd: MC#5 left-right wheelbase asymmetry scale (m).
-        v_floor: MC#6/#7 speed floor under the ratios (m/s).
-        w_floor: MC#8 yaw-rate floor (rad/s).
-        vz9: MC#9 left-right vertical speed difference scale (m/s).
-        w_diff: MC#10 W_diff scale (N) [S 1100 SWLM / 1300 DWLM]; w_fmr: MC#11 (N) [S 700].
-    """
+    """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md)."""
 
     v2: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#2 wheel-suspension speed mismatch scale")
-    wb_min: float = param(0.35, gt=0.0, le=2.0, unit="m", doc="MC#3 least front-middle axle distance (2 r + 50 mm)")
+    wb_min: float = param(0.35, gt=0.0, le=2.0, unit="m",
+                          doc="MC#3 least front-middle axle distance before the wheels touch (2 r + 50 mm)")
     dh: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#4 left-right hinge-height asymmetry scale")
     dd: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#5 left-right wheelbase asymmetry scale")
     v_floor: float = param(0.005, gt=0.0, le=0.5, unit="m/s", doc="MC#6/#7 speed floor under the ratios")
@@ -181,8 +171,8 @@ def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
 def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, load, k):
     """The ratios of :data:`NAMES` of one control period, compiled: the expressions of
     :func:`mc2_ratio`, :func:`eta_roll`, :func:`eta_yaw`, :func:`eta_change`,
-    :func:`load_ratios` ... in the same order on scalars (bitwise :func:`period_ratios_reference`;
-    tested)."""
+    :func:`load_ratios` ... in the same order on scalars (bitwise the oracle
+    ``period_ratios_reference`` in tests/srwmr/srwmr_reference.py; tested)."""
     fl, half, v2, dh, dd, v_floor, w_floor, vz9, w_diff_scale, w_fmr_scale = (
         k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9])
     r = np.zeros(10)
@@ -214,48 +204,31 @@ def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, loa
     return r
 
 
-def period_ratios(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None) -> np.ndarray:
+def period_ratios(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None,
+                  k: np.ndarray | None = None) -> np.ndarray:
     """(10,) ratios of :data:`NAMES` this period (the controller's ``_ratios``), compiled.
 
     ``u``, ``u_prev`` (5,) this and the last executed command; ``J``, ``dz``, ``wb`` the rocker
     Jacobian (6, 3), hinge rise (2,) and front-middle wheelbases (2,) at ``delta``; ``ddelta``,
     ``mu``, ``load`` measured; ``rim_cmd`` (6,) the last commanded rim speeds (None: no MC#2).
-    MC#2 is evaluated while the suspension moves (a rate above 1e-4 rad/s)."""
+    MC#2 is evaluated while the suspension moves (a rate above 1e-4 rad/s). ``k``: :func:`ratio_consts`
+    (None: built here)."""
     mc2_on = rim_cmd is not None and (abs(float(ddelta[0])) > 1e-4 or abs(float(ddelta[1])) > 1e-4)
     rim = _NO_RIM if rim_cmd is None else np.asarray(rim_cmd, float)
-    k = _RATIO_CONSTS.get((id(cfg), id(sc)))
-    if k is None or k[0] is not cfg or k[1] is not sc:
-        k = _RATIO_CONSTS[(id(cfg), id(sc))] = (cfg, sc, np.array(
-            (cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9, sc.w_diff, sc.w_fmr)))
+    if k is None:
+        k = ratio_consts(cfg, sc)
     return _ratios_kernel(mc2_on, rim, mu, np.asarray(u_prev, float), J, ddelta, dz, wb, delta,
-                          np.asarray(u, float), load, k[2])
+                          np.asarray(u, float), load, k)
+
+
+def ratio_consts(cfg, sc: Scales) -> np.ndarray:
+    """The scalars :func:`period_ratios` reads, in the kernel's order (a controller builds them
+    once and passes them as ``k``)."""
+    return np.array((cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+                     sc.w_diff, sc.w_fmr))
 
 
 _NO_RIM = np.zeros(6)
-#: the scalars the ratios read, one float array per (robot, scales) config
-_RATIO_CONSTS: dict[tuple[int, int], tuple] = {}
-
-
-def period_ratios_reference(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load, rim_cmd=None):
-    """:func:`period_ratios` with the numpy functions of this module (the form it must equal)."""
-    r = np.zeros(len(NAMES))
-    if rim_cmd is not None and (np.abs(ddelta) > 1e-4).any():
-        side = np.array([0, 1, 0, 1, 0, 1])
-        v_kin = u_prev[0] + J[:, 0] * ddelta[side]
-        r[0] = mc2_ratio(rim_cmd * np.cos(mu), v_kin, sc)
-    fl = cfg.front_len
-    r[1] = max((fl - wb[0]) / fl, (fl - wb[1]) / fl)
-    r[2] = eta_roll(dz * delta, sc)
-    r[3] = eta_yaw(wb, sc)
-    if u[3] or u[4]:
-        half = cfg.track / 2
-        v_side = np.array([u[0] - u[2] * half, u[0] + u[2] * half])
-        r[4] = eta_rocker_vs_side(J[0:2, 0] * u[3:5], v_side, sc)
-    r[5] = eta_change(u[0], u_prev[0], sc.v_floor)
-    r[6] = eta_change(u[2], u_prev[2], sc.w_floor)
-    r[7] = eta_roll_rate(dz * u[3:5], sc)
-    r[8], r[9] = load_ratios(load, sc)
-    return r
 
 
 @numba.njit(cache=True)

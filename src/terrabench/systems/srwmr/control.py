@@ -115,6 +115,7 @@ class RoverController:
                 check_lift(st.mode, st.lift)  # MC#1 before any simulation
         self.plan, self.robot, self.sup, self.lim, self.sc, self.ts = list(plan), robot, sup, lim, sc, ts
         self.ik = SaturatedIK(robot, lim, sc, ts)
+        self._ratio_k = mc.ratio_consts(robot, sc)  # the scalars the ratio kernel reads, once
         self.machine = ModeMachine("START")
         self._kappas: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.k = -1
@@ -378,7 +379,7 @@ class RoverController:
         suspension moves, the commanded rim speeds against the speeds the suspension motion requires
         (the RCM rolling set runs above them on purpose: it shows here)."""
         return mc.period_ratios(self.robot, self.sc, u, self.u_prev, J, self.period.dz, wb, obs.delta, obs.ddelta,
-                                obs.mu, obs.load, self.rim_cmd)
+                                obs.mu, obs.load, self.rim_cmd, self._ratio_k)
 
     def _out(self, mu, spin, u, ratios) -> Command:
         return Command(mu, spin, self.target.copy(), u, MODE_CODE.get(self.mode, 9),

@@ -34,19 +34,13 @@ N_INEQ = 16
 
 @dataclass(frozen=True)
 class IKLimits:
-    """Bounds of the command (the robot's drive limits) and the QP weights.
-
-    Attributes:
-        v_max: body speed bound (m/s).  w_max: yaw-rate bound (rad/s).
-        rate_max: rocker closing-rate bound (rad/s).  weights: diagonal W over u.
-        delta_range: closing angles the rockers may reach (rad).
-    """
+    """Bounds of the command (the robot's drive limits) and the QP weights."""
 
     v_max: float = param(0.06, gt=0.0, le=1.0, unit="m/s", doc="body speed bound")
     w_max: float = param(0.1, gt=0.0, le=2.0, unit="rad/s", doc="yaw-rate bound")
     rate_max: float = param(0.05, gt=0.0, le=1.0, unit="rad/s", doc="rocker closing-rate bound")
     weights: tuple[float, float, float, float, float] = param((1.0, 1.0, 1.0, 4.0, 4.0), gt=0.0, le=1e6, length=5,
-                                                              doc="QP weights W over (vx, vy, wz, rates L, R)")
+                                                              doc="diagonal QP weights W: vx, vy, wz, rates L, R")
     delta_range: tuple[float, float] = param((-0.45, 1.15), ge=-3.14, le=3.14, length=2, unit="rad",
                                              doc="closing angles the rockers may reach (lower, upper)")
 
@@ -64,69 +58,6 @@ class IKState:
     u_prev: np.ndarray
 
 
-def build_qp_reference(
-    cfg: RobotConfig,
-    st: IKState,
-    kappa: np.ndarray,
-    sc: mc.Scales,
-    lim: IKLimits,
-    ts: float,
-    J: np.ndarray | None = None,
-    wb: np.ndarray | None = None,
-):
-    """(G, h, lb, ub) of one control step, written row by row (the specification of
-    :func:`_qp_kernel`, which must equal it bitwise; tested). Rows: MC3 x2, MC4 x2, MC5 x2, MC6 x4,
-    MC7 x2, MC8 x2, MC9 x2."""
-    d = st.delta
-    J = rocker_jacobian(cfg, d) if J is None else J
-    wb0 = cfg.front_len  # nominal front-middle distance
-    wb = wheelbase_front_middle(cfg, d) if wb is None else wb
-    dwb = np.array([J[0, 0] - J[2, 0], J[1, 0] - J[3, 0]])  # d wb / d delta per side
-    dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])  # hinge rise per delta
-    G = np.zeros((N_INEQ, N_U))
-    h = np.zeros(N_INEQ)
-    big = 1e6
-    k2, k3, k4, k5, k6, k7, k8, k9 = (kappa[i] for i in range(8))
-    # MC3: eta_wb(next) = (wb0 - wb - dwb * rate * ts)/wb0 <= k3  ->  -dwb ts/wb0 * rate <= k3 - eta
-    eta = (wb0 - wb) / wb0
-    for s in (0, 1):
-        G[s, 3 + s] = -dwb[s] * ts / wb0
-        h[s] = (k3 - eta[s]) if np.isfinite(k3) else big
-    # MC4: |(hL - hR) + ts(dzL rL - dzR rR)| <= k4 dh  (heights from the symmetric model: dz * delta)
-    hl, hr = dz[0] * d[0], dz[1] * d[1]
-    for j, sg in ((2, 1.0), (3, -1.0)):
-        G[j, 3], G[j, 4] = sg * dz[0] * ts, -sg * dz[1] * ts
-        h[j] = (k4 * sc.dh - sg * (hl - hr)) if np.isfinite(k4) else big
-    # MC5: |(wbL - wbR) + ts(dwbL rL - dwbR rR)| <= k5 dd
-    for j, sg in ((4, 1.0), (5, -1.0)):
-        G[j, 3], G[j, 4] = sg * dwb[0] * ts, -sg * dwb[1] * ts
-        h[j] = (k5 * sc.dd - sg * (wb[0] - wb[1])) if np.isfinite(k5) else big
-    # MC6: |J_front,x rate_s| <= k6 max(|v_side_prev|, v_floor), both signs per side
-    half = cfg.track / 2
-    v_side = np.array([st.u_prev[0] - st.u_prev[2] * half, st.u_prev[0] + st.u_prev[2] * half])
-    for s in (0, 1):
-        lim6 = k6 * max(abs(v_side[s]), sc.v_floor) if np.isfinite(k6) else big
-        G[6 + 2 * s, 3 + s], G[7 + 2 * s, 3 + s] = J[s, 0], -J[s, 0]
-        h[6 + 2 * s] = h[7 + 2 * s] = lim6
-    # MC7 / MC8: change of vx and wz per step
-    lim7 = k7 * max(abs(st.u_prev[0]), sc.v_floor) if np.isfinite(k7) else big
-    lim8 = k8 * max(abs(st.u_prev[2]), sc.w_floor) if np.isfinite(k8) else big
-    G[10, 0], h[10] = 1.0, st.u_prev[0] + lim7
-    G[11, 0], h[11] = -1.0, -st.u_prev[0] + lim7
-    G[12, 2], h[12] = 1.0, st.u_prev[2] + lim8
-    G[13, 2], h[13] = -1.0, -st.u_prev[2] + lim8
-    # MC9: |dzL rL - dzR rR| <= k9 vz9
-    lim9 = k9 * sc.vz9 if np.isfinite(k9) else big
-    G[14, 3], G[14, 4], h[14] = dz[0], -dz[1], lim9
-    G[15, 3], G[15, 4], h[15] = -dz[0], dz[1], lim9
-    lb = np.array([-lim.v_max, -lim.v_max, -lim.w_max, -lim.rate_max, -lim.rate_max])
-    ub = -lb
-    # the rocker range: do not step past it
-    lb[3:] = np.maximum(lb[3:], (lim.delta_range[0] - d) / ts)
-    ub[3:] = np.minimum(ub[3:], (lim.delta_range[1] - d) / ts)
-    return G, h, lb, ub
-
-
 def build_qp(
     cfg: RobotConfig,
     st: IKState,
@@ -139,7 +70,8 @@ def build_qp(
     dz: np.ndarray | None = None,
 ):
     """(G, h, lb, ub) of one control step: the linearised MC#3-#9 rows (see the module docstring),
-    computed by :func:`_qp_kernel` into fresh arrays (bitwise :func:`build_qp_reference`, tested).
+    computed by :func:`_qp_kernel` into fresh arrays (bitwise the oracle ``build_qp_reference`` in
+    tests/srwmr/srwmr_reference.py, tested).
     ``J``, ``wb``, ``dz``: the rocker Jacobian, front-middle wheelbases and hinge rise at
     ``st.delta`` if the caller already has them."""
     d = np.asarray(st.delta, float)
@@ -161,7 +93,8 @@ def kernel_consts(cfg: RobotConfig, sc: mc.Scales, lim: IKLimits, ts: float) -> 
 
 @numba.njit(cache=True)
 def _qp_kernel(J, d, wb, dz, kappa, u_prev, u_nom, k, G, h, lb, ub):
-    """:func:`build_qp_reference`'s rows compiled (bitwise the same G, h, lb, ub; tested), written
+    """The rows of the oracle ``build_qp_reference`` (tests/srwmr/srwmr_reference.py) compiled (bitwise the
+    same G, h, lb, ub; tested), written
     into the buffers ``G``, ``h``, ``lb``, ``ub``, and where ``u_nom`` lies: 0 the bounds are empty
     (infeasible), 1 inside the set (the QP's own optimum), 2 outside
     (the solver is needed). ``k``: :func:`kernel_consts`."""

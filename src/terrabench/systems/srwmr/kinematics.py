@@ -72,101 +72,27 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
 
 def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
     """Axle centres (6, 3) and d(axle)/d(delta_side) (6, 3) in closed form, bogies level and the
-    differential at zero: the same numbers as :func:`axle_positions` / :func:`rocker_jacobian`
-    (tested), at a fraction of the cost (the controller calls it once per control period).
+    differential at zero, with the steering offsets of ``mu`` (None: none): the same numbers as
+    :func:`axle_positions` / :func:`rocker_jacobian` (tested), from the one compiled kernel
+    (:func:`period_geometry`).
 
     Rear side: the pivot sits at angle theta_s20 + delta below the hinge, the level bogie carries
     the pillars; front: the section turned by z delta carries its pillar.
     """
-    d0, d1 = float(delta[0]), float(delta[1])
-    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
-    th0, lpr, lpf = cfg.theta_s20, cfg.pillar_rear, cfg.pillar_front
-    e = cfg.wheel_offset
-    yl = cfg.steer_y
-    P = np.empty((6, 3))
-    J = np.zeros((6, 3))
-    for s, dl in ((0, d0), (1, d1)):
-        sg = 1.0 if s == 0 else -1.0
-        ang = th0 + dl
-        ca, sa = math.cos(ang), math.sin(ang)
-        px, pz = -b * ca, -b * sa
-        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
-            m = 0.0 if mu is None else float(mu[wi])
-            P[wi, 0] = px + xb - sg * e * math.sin(m)
-            P[wi, 1] = sg * yl + sg * e * math.cos(m)
-            P[wi, 2] = pz - lpr
-            J[wi, 0], J[wi, 2] = b * sa, -b * ca
-        m = 0.0 if mu is None else float(mu[s])
-        xa = a - sg * e * math.sin(m)
-        cq, sq = math.cos(z * dl), math.sin(z * dl)
-        P[s, 0] = xa * cq - lpf * sq
-        P[s, 1] = sg * yl + sg * e * math.cos(m)
-        P[s, 2] = -xa * sq - lpf * cq
-        J[s, 0] = z * (-xa * sq - lpf * cq)
-        J[s, 2] = z * (-xa * cq + lpf * sq)
-    return P, J
+    susp, geom, _, _ = period_geometry(cfg, delta, _NO_MU if mu is None else mu)
+    return susp if mu is None else geom
 
 
-_CONSTS: dict[int, tuple] = {}
-
-
-def _consts(cfg: RobotConfig) -> tuple:
-    """The robot's lengths the geometry reads, once per (frozen) config (its derived properties
-    are computed on access)."""
-    hit = _CONSTS.get(id(cfg))
-    if hit is None or hit[0] is not cfg:
-        hit = _CONSTS[id(cfg)] = (cfg, cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio, cfg.theta_s20,
-                                  cfg.pillar_rear, cfg.pillar_front, cfg.wheel_offset, cfg.steer_y)
-    return hit[1:]
-
-
-_CONSTS_ARR: dict[int, tuple] = {}
-
-
-def _consts_array(cfg: RobotConfig) -> np.ndarray:
-    """:func:`_consts` as one float array (the compiled kernels' argument)."""
-    hit = _CONSTS_ARR.get(id(cfg))
-    if hit is None or hit[0] is not cfg:
-        hit = _CONSTS_ARR[id(cfg)] = (cfg, np.array(_consts(cfg), float))
-    return hit[1]
-
-
-def geometry_pair_reference(cfg: RobotConfig, delta, mu):
-    """:func:`geometry_pair` in Python floats (the form the compiled kernel must equal bitwise;
-    tested): ``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass."""
-    d0, d1 = float(delta[0]), float(delta[1])
-    b, a, bh, z, th0, lpr, lpf, e, yl = _consts(cfg)
-    mu = mu.tolist() if isinstance(mu, np.ndarray) else [float(m) for m in mu]
-    s0, c0 = math.sin(0.0), math.cos(0.0)
-    P0: list = [None] * 6
-    P: list = [None] * 6
-    J0: list = [None] * 6
-    J: list = [None] * 6
-    for s, dl in ((0, d0), (1, d1)):
-        sg = 1.0 if s == 0 else -1.0
-        ang = th0 + dl
-        ca, sa = math.cos(ang), math.sin(ang)
-        px, pz = -b * ca, -b * sa
-        jrow = (b * sa, 0.0, -b * ca)
-        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
-            m = mu[wi]
-            P0[wi] = (px + xb - sg * e * s0, sg * yl + sg * e * c0, pz - lpr)
-            P[wi] = (px + xb - sg * e * math.sin(m), sg * yl + sg * e * math.cos(m), pz - lpr)
-            J0[wi] = J[wi] = jrow
-        cq, sq = math.cos(z * dl), math.sin(z * dl)
-        for PP, JJ, sm, cm in ((P0, J0, s0, c0), (P, J, math.sin(mu[s]), math.cos(mu[s]))):
-            xa = a - sg * e * sm
-            PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * cm, -xa * sq - lpf * cq)
-            JJ[s] = (z * (-xa * sq - lpf * cq), 0.0, z * (-xa * cq + lpf * sq))
-    return (np.array(P0), np.array(J0)), (np.array(P), np.array(J))
+_NO_MU = np.zeros(6)
 
 
 @numba.njit(cache=True)
 def _suspension_kernel(delta, mu, k):
-    """The expressions of :func:`geometry_pair_reference`, compiled (scalar libm sin/cos, the
-    same operations in the same order: bitwise the same numbers), plus the hinge rise (2,) and
+    """The suspension geometry without and with the steering offsets (Python floats' expressions,
+    scalar libm sin/cos; the oracle ``tests/srwmr/srwmr_reference.py:geometry_pair_reference`` holds the
+    same operations in the same order and is compared bitwise), plus the hinge rise (2,) and
     the front-middle wheelbases (2,) of the offset-free geometry. ``k``: the robot's lengths
-    (:func:`_consts`). Returns one (5, 6, 3) array: P0, J0, P, J, then [4, 0, :2] the hinge rise
+    (:attr:`RobotConfig.kernel_lengths`). Returns one (5, 6, 3) array: P0, J0, P, J, then [4, 0, :2] the hinge rise
     and [4, 1, :2] the wheelbases (one array: each array a compiled call returns costs ~0.6 us)."""
     d0, d1 = delta[0], delta[1]
     b, a, bh, z, th0, lpr, lpf, e, yl = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8]
@@ -214,7 +140,7 @@ def period_geometry(cfg: RobotConfig, delta, mu):
     """The suspension geometry of one control period in one compiled call: ``((P0, J0), (P, J),
     dz, wb)``: :func:`geometry` without and with the steering offsets ``mu``, the hinge rise
     :func:`hinge_rise` of ``J0`` and the front-middle wheelbases of ``P0`` (fresh arrays)."""
-    g = _suspension_kernel(np.asarray(delta, float), np.asarray(mu, float), _consts_array(cfg))
+    g = _suspension_kernel(np.asarray(delta, float), np.asarray(mu, float), cfg.kernel_lengths)
     return (g[0], g[1]), (g[2], g[3]), g[4, 0, :2], g[4, 1, :2]
 
 

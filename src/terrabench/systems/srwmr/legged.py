@@ -343,9 +343,8 @@ class LeggedAction:
         would otherwise roll the chassis by ~atan(h / d_b)."""
         if self.st.mode != "SWLM" or self.name not in ("lift", "roll", "lower"):
             return u
-        J = ctl.period.J
         o = 1 - self.sides[0]
-        dz = max(-(J[o, 2] + J[o + 2, 2] + J[o + 4, 2]) / 3, 0.05)  # hinge rise per closing angle
+        dz = max(float(ctl.period.dz[o]), 0.05)  # hinge rise per closing angle (the period's kernel)
         dh = self.robot.hinge_track * math.sin(float(obs.rpy[0]))  # left hinge above the right one
         rate = (-1.0 if o == 0 else 1.0) * LEVEL_GAIN * dh / dz
         u[3 + o] = max(-ctl.lim.rate_max, min(ctl.lim.rate_max, rate))

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import mujoco
 import numpy as np
@@ -41,39 +42,23 @@ LINK_BIT, WHEEL_BIT = 1, 2
 
 @dataclass(frozen=True)
 class RobotConfig:
-    """HIT-MRII geometry and drives.
+    """HIT-MRII geometry and drives ([S] stated by the paper, [R] reconstructed).
 
-    Attributes:
-        wheel_radius: r (m) [S 150 mm].  wheel_width: (m) [R].
-        track: d_wt, left-right wheel-centre distance (m) [S 1304 mm].
-        hinge_track: d_b, left-right rocker hinge distance (m) [S 830 mm].
-        front_len: d_r21, hinge to front steering axis (m) [S 775 mm].
-        rear_len: d_r22, hinge to bogie pivot (m) [S 390.7 mm].
-        bogie_half: bogie pivot to middle/rear steering axes (m) [R: 775/2, front-middle =
-            middle-rear = 775 mm, front-rear d_wl = 1550 mm].
-        wheel_offset: lateral offset of the wheel centre from its steering axis (m) [R].
-        pillar_front: front steering-joint to axle (m) [R: 250 mm clearance at nominal].
-        clearance: nominal ground clearance (m) [S 250 mm].
-        chassis_size: half sizes of the body box (m) [R].
-        chassis_mass, link_mass, bogie_mass, pillar_mass, wheel_mass, diff_mass: (kg) [R: total 225 kg S].
-        z_ratio: front/rear rocker rate ratio z [S 1/2.2].
-        rocker_kp, rocker_kv, rocker_torque: rocker servo (N m/rad, N m s/rad, N m).
-        steer_kp, steer_kv, steer_torque: steering servos.
-        drive_kv, drive_torque: wheel velocity servos (N m s/rad, N m).
-        drive_armature: reflected rotor inertia of the geared wheel motor (kg m^2) [R]; it also keeps
-            the explicit soil torque stable at the 2 ms step.
-        rocker_range: rocker_s joint range (rad) (closing = negative).
+    ``clearance`` (nominal ground clearance, [S 250 mm]) is derived, not set: see the property.
     """
 
     wheel_radius: float = param(0.15, ge=0.05, le=0.5, unit="m", doc="wheel radius r [S 150 mm]")
     wheel_width: float = param(0.12, ge=0.03, le=0.4, unit="m", doc="wheel width [R]")
-    track: float = param(1.304, ge=0.6, le=2.5, unit="m", doc="d_wt, left-right wheel-centre distance [S]")
-    hinge_track: float = param(0.83, ge=0.3, le=1.5, unit="m", doc="d_b, left-right rocker hinge distance [S]")
-    front_len: float = param(0.775, ge=0.3, le=1.5, unit="m", doc="d_r21, hinge to front steering axis [S]")
-    rear_len: float = param(0.3907, ge=0.2, le=1.0, unit="m", doc="d_r22, hinge to bogie pivot [S]")
-    bogie_half: float = param(0.3875, ge=0.16, le=0.8, unit="m", doc="bogie pivot to middle/rear steering axes [R]")
+    track: float = param(1.304, ge=0.6, le=2.5, unit="m", doc="d_wt, left-right wheel-centre distance [S 1304 mm]")
+    hinge_track: float = param(0.83, ge=0.3, le=1.5, unit="m", doc="d_b, left-right rocker hinge distance [S 830 mm]")
+    front_len: float = param(0.775, ge=0.3, le=1.5, unit="m", doc="d_r21, hinge to front steering axis [S 775 mm]")
+    rear_len: float = param(0.3907, ge=0.2, le=1.0, unit="m", doc="d_r22, hinge to bogie pivot [S 390.7 mm]")
+    bogie_half: float = param(0.3875, ge=0.16, le=0.8, unit="m",
+                              doc="bogie pivot to middle/rear steering axes [R: 775/2, front-middle = "
+                                  "middle-rear = 775 mm, front-rear d_wl = 1550 mm]")
     wheel_offset: float = param(0.10, ge=0.0, le=0.3, unit="m", doc="wheel centre offset from its steering axis [R]")
-    pillar_front: float = param(0.25, ge=0.1, le=0.6, unit="m", doc="front steering joint to axle [R]")
+    pillar_front: float = param(0.25, ge=0.1, le=0.6, unit="m",
+                                doc="front steering joint to axle [R: 250 mm clearance at nominal]")
     chassis_size: tuple[float, float, float] = param((0.6, 0.35, 0.15), ge=0.05, le=1.5, length=3, unit="m",
                                                      doc="half sizes of the body box [R]")
     chassis_mass: float = param(155.0, gt=0.0, le=1000.0, unit="kg", doc="chassis mass [R: 225 kg in all, S]")
@@ -93,9 +78,12 @@ class RobotConfig:
     drive_torque: float = param(120.0, gt=0.0, le=1e4, unit="N m", doc="wheel motor torque limit")
     pivot_damping: float = param(200.0, ge=0.0, le=1e4, unit="N m s/rad",
                                  doc="bogie and differential pivot damping")
-    drive_armature: float = param(1.0, ge=0.01, le=10.0, unit="kg m^2", doc="geared wheel motor reflected inertia [R]")
+    drive_armature: float = param(1.0, ge=0.01, le=10.0, unit="kg m^2",
+                                  doc="reflected rotor inertia of the geared wheel motor [R]; it also keeps the "
+                                      "explicit soil torque from making the wheels oscillate (0.05 kg m^2 did, "
+                                      "docs/assumptions-srwmr.md)")
     rocker_range: tuple[float, float] = param((-1.2, 0.5), ge=-3.14, le=3.14, length=2, unit="rad",
-                                              doc="rocker joint range (closing < 0 < opening)")
+                                              doc="rocker_s joint range (closing < 0 < opening)")
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -139,6 +127,14 @@ class RobotConfig:
     @property
     def clearance(self) -> float:
         return self.hinge_height - self.chassis_size[2]
+
+    @cached_property
+    def kernel_lengths(self) -> np.ndarray:
+        """The lengths the compiled suspension kernels read, computed once per (frozen) config, in
+        their order: rear_len, front_len, bogie_half, z_ratio, theta_s20, pillar_rear,
+        pillar_front, wheel_offset, steer_y (m, rad)."""
+        return np.array((self.rear_len, self.front_len, self.bogie_half, self.z_ratio, self.theta_s20,
+                         self.pillar_rear, self.pillar_front, self.wheel_offset, self.steer_y), float)
 
     @property
     def total_mass(self) -> float:

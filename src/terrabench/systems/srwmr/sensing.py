@@ -83,7 +83,7 @@ class Observation:
     def refresh(self) -> Observation:
         """Read this instant's measurements: one compiled gather (:func:`_read_kernel`) and one
         draw of the noise (the same numbers, in the same order, as a draw per sensor;
-        :meth:`refresh_reference` is the numpy form, tested bitwise)."""
+        the oracle ``refresh_reference`` in tests/srwmr/srwmr_reference.py is the numpy form, tested bitwise)."""
         d = self._d
         self.t = float(d.time)
         z = self.rng.standard_normal(10 if self.load_noise else 4)
@@ -95,45 +95,10 @@ class Observation:
         self.yaw = self.rpy[2]
         return self
 
-    def refresh_reference(self) -> Observation:
-        """:meth:`refresh` with numpy gathers (the form the compiled read must equal)."""
-        d = self._d
-        s = d.sensordata
-        self.t = float(d.time)
-        qp = d.qpos[self._q_idx]  # rocker L R, differential L R, bogie L R, steering c1..c6
-        qv = d.qvel[self._v_idx]  # rocker L R, wheel spin c1..c6
-        self.delta = -qp[0:2]
-        self.phi, self.zeta, self.mu = qp[2:4], qp[4:6], qp[6:12]
-        self.ddelta = -qv[0:2]
-        self.spin = qv[2:8]
-        self.tau = d.actuator_force[self._drive]
-        q = s[self._quat : self._quat + 4]
-        self.rpy = np.array(rpy_from_quat(q))
-        self.gyro = s[self._gyro : self._gyro + 3].copy()
-        # F/T sensor: force the pillar transmits (site frame); the load is the component along
-        # the pillar (-z of the site frame carries the wheel)
-        load = -s[self._ftz] + self._below
-        if self.load_noise:
-            z = self.rng.standard_normal(10)
-            self.load = load + z[0:6] * self.load_noise
-            z = z[6:10]
-        else:
-            z = self.rng.standard_normal(4)
-            self.load = load
-        yaw = self.rpy[2]
-        self.xy = d.xpos[self._chassis, :2] + z[0:2] * self.pose_noise
-        self.yaw = yaw
-        vw = d.qvel[self._root : self._root + 3]  # free joint: linear velocity of the origin, world frame
-        c, sn = math.cos(yaw), math.sin(yaw)
-        fwd, lat = c * vw[0] + sn * vw[1], -sn * vw[0] + c * vw[1]
-        self.v_body = np.array([fwd, lat]) + z[2:4] * self.speed_noise
-        return self
-
-
 @numba.njit(cache=True)
 def _read_kernel(qpos, qvel, sens, force, xpos, q_idx, v_idx, drive, quat, gyro, ftz, below, chassis, root, z,
                  load_noise, pose_noise, speed_noise):
-    """The gathers and expressions of :meth:`Observation.refresh_reference` on scalars (libm
+    """The gathers and expressions of the oracle ``refresh_reference`` (tests/srwmr/srwmr_reference.py) on scalars (libm
     atan2/asin/cos/sin as Python's ``math``): (delta, ddelta, phi, zeta, mu, spin, tau, rpy, gyro,
     load, xy, v_body). ``z``: the noise draw (10 with load noise: 6 loads, then pose and speed;
     else 4)."""

@@ -64,8 +64,9 @@ _NO_RATIOS = np.zeros(len(mc.NAMES))
 
 @numba.njit(cache=True)
 def _row_kernel(p, qvel, rpy, delta, slip, sink, fn, dp, force, vel, drive, load, ratios, u, mode, step, has_cmd):
-    """One log row (:data:`COLUMNS`): the expressions of :meth:`SRWMRTask.row_reference` on
-    scalars, sums over the six wheels one after the other from 0 (numpy's order for six values)."""
+    """One log row (:data:`COLUMNS`): the expressions of the oracle ``row_reference``
+    (tests/srwmr/srwmr_reference.py) on scalars, sums over the six wheels one after the other from
+    0 (numpy's order for six values)."""
     out = np.empty(_NC)
     out[0], out[1], out[2] = p[0], p[1], p[2]
     yaw = rpy[2]
@@ -273,7 +274,7 @@ class SRWMRTask(TaskBase):
 
     def row(self, obs: Observation, cmd) -> np.ndarray:
         """The stored columns (:data:`COLUMNS`) of this instant, filled by one compiled kernel
-        (:func:`_row_kernel`; bitwise :meth:`row_reference`, tested)."""
+        (:func:`_row_kernel`; bitwise the oracle ``row_reference``, tested)."""
         d, t = self.data, self.soil_wheels.truth
         if cmd is None:
             u, ratios, mode, step, has = _NO_U, _NO_RATIOS, 0.0, 0.0, False
@@ -282,39 +283,6 @@ class SRWMRTask(TaskBase):
         return _row_kernel(d.xpos[self.chassis], d.qvel, obs.rpy, obs.delta, t["slip"], t["sinkage"], t["Fn"],
                            t["DP"], d.actuator_force, d.actuator_velocity, self.a_drive, obs.load,
                            np.asarray(ratios, float), np.asarray(u, float), mode, step, has)
-
-    def row_reference(self, obs: Observation, cmd) -> np.ndarray:
-        """:meth:`row` filled slice by slice with numpy (the form the kernel must equal)."""
-        d, t = self.data, self.soil_wheels.truth
-        out = np.empty(_NC)
-        p = d.xpos[self.chassis]
-        vw = d.qvel[0:3]
-        rpy = obs.rpy
-        yaw = rpy[2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        out[0:3] = p
-        out[3], out[4], out[5] = yaw, rpy[1], rpy[0]
-        out[6] = c * vw[0] + s * vw[1]
-        out[8:10] = obs.delta
-        slip, sink, dp = t["slip"], t["sinkage"], t["DP"]
-        out[12] = slip.sum() / slip.size  # = np.mean
-        out[13] = sink.sum() / sink.size
-        out[14:20] = t["Fn"]
-        out[20] = dp.sum()
-        a = self.a_drive
-        out[21] = np.abs(d.actuator_force[a] * d.actuator_velocity[a]).sum()
-        out[22:28] = dp
-        out[28:34] = obs.load
-        out[_ETA] = np.nan if cmd is None else cmd.ratios
-        out[_ETA_END] = -s * vw[0] + c * vw[1]
-        out[_ETA_END + 2] = d.qvel[5]
-        if cmd is None:
-            out[7] = out[10] = out[11] = out[_ETA_END + 1] = out[_ETA_END + 3] = np.nan
-        else:
-            u = cmd.u
-            out[7], out[10], out[11] = u[0], cmd.mode, getattr(cmd, "step", np.nan)
-            out[_ETA_END + 1], out[_ETA_END + 3] = u[1], u[2]
-        return out
 
     def power(self, obs) -> float:
         """Electrical power proxy: sum |force x velocity| over the actuators (W), compiled

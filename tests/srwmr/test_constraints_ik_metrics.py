@@ -89,3 +89,36 @@ def test_soil_fit_constants_reproduce_the_t1_targets():
 
     assert zero_pull_slip(VERY_LOOSE) == pytest.approx(TARGETS["very_loose"], abs=0.02)
     assert zero_pull_slip(LOOSE) == pytest.approx(TARGETS["loose"], abs=0.02)
+
+
+def test_each_term_s_qp_rows_and_ratio_are_one_definition():
+    """A command on the boundary of a term's QP row gives that term's kappa as its ratio: the IK
+    (rows) and the supervisor (ratios) read the same MC#k (constraints.CONSTRAINTS)."""
+    from terrabench.systems.srwmr.kinematics import period_geometry
+
+    lim = IKLimits()
+    mode, ts = "RCLM", 0.01
+    kappa = mc.qp_thresholds(mode)
+    d = np.array([0.05, 0.03])
+    (P0, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
+    u_prev = np.array([0.02, 0.0, 0.01, 0.0, 0.0])
+    G, h, _, _ = build_qp(CFG, IKState(d, u_prev), kappa, SC, lim, ts, J, wb, dz)
+    rows = sorted(c.qp_rows for c in mc.CONSTRAINTS if c.qp_rows)
+    assert rows[0][0] == 0 and rows[-1][1] == G.shape[0]
+    assert all(a[1] == b[0] for a, b in zip(rows, rows[1:]))  # every row belongs to one term
+    checked = []
+    for c in mc.CONSTRAINTS:
+        if c.name not in ("MC6", "MC7", "MC8", "MC9"):  # the command ratios (MC3-MC5 read the state)
+            continue
+        j = c.qp_rows[0]
+        base = u_prev.copy()
+        var = int(np.flatnonzero(G[j])[0])
+        base[var] = 0.0
+        u = base.copy()
+        u[var] = (h[j] - G[j] @ base) / G[j, var]
+        r = mc.period_ratios(CFG, SC, u, u_prev, J, dz, wb, d, np.zeros(2), np.zeros(6), np.full(6, 380.0))
+        assert r[c.ratio] == pytest.approx(c.kappa(mode), rel=1e-9), c.name
+        assert mc.NAMES[c.ratio] == c.name
+        checked.append(c.name)
+    assert checked == ["MC6", "MC7", "MC8", "MC9"]
+    assert [c.name for c in mc.CONSTRAINTS if c.halts] == ["MC4", "MC5", "MC10", "MC11"]

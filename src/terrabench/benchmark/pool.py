@@ -14,11 +14,12 @@ import threading
 import time
 from collections import deque
 from multiprocessing import get_context
+from multiprocessing.connection import Connection
 from multiprocessing.connection import wait as mp_wait
-from typing import Any
+from multiprocessing.context import SpawnContext
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
-from terrabench.benchmark.worker import execute
+from terrabench.benchmark.worker import BudgetOf, FaultCounts, Land, execute
 from terrabench.benchmark.worker import exit_reason as _exit_reason
 from terrabench.benchmark.worker import fault_result as _fault_result
 
@@ -28,7 +29,7 @@ WORKER_START_BUDGET_S = 300.0
 MAX_START_FAILURES = 3
 
 
-def _worker_main(conn, systems: list[str], parent_pid: int) -> None:
+def _worker_main(conn: Connection, systems: list[str], parent_pid: int) -> None:
     """Body of a pool worker: import the systems, say ready, then run one spec per message."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     _die_with_parent(parent_pid)
@@ -82,7 +83,7 @@ def _die_with_parent(parent_pid: int) -> None:
 class _Slot:
     """One worker process and the spec it holds (if any)."""
 
-    def __init__(self, ctx, systems: list[str]):
+    def __init__(self, ctx: SpawnContext, systems: list[str]) -> None:
         parent_conn, child_conn = ctx.Pipe(duplex=True)
         self.proc = ctx.Process(target=_worker_main, args=(child_conn, systems, os.getpid()), daemon=True)
         self.proc.start()
@@ -104,6 +105,7 @@ class _Slot:
 
     def take(self) -> tuple[TrialSpec, int, float]:
         spec, deaths, elapsed = self.spec, self.deaths, time.monotonic() - self.started
+        assert spec is not None, "take() of a slot that holds no spec"  # callers test slot.spec first
         self.spec, self.deaths, self.deadline = None, 0, None
         return spec, deaths, elapsed
 
@@ -123,7 +125,7 @@ class _Slot:
         self.kill()
 
 
-def run_pool(todo: list[TrialSpec], land, workers: int, budget_of, summary: Any) -> None:
+def run_pool(todo: list[TrialSpec], land: Land, workers: int, budget_of: BudgetOf, summary: FaultCounts) -> None:
     # spawn: workers start clean (no inherited DuckDB handle or threads)
     ctx = get_context("spawn")
     systems = sorted({s.system for s in todo})

@@ -14,7 +14,7 @@ from typing import Any
 
 from terrabench import portable
 from terrabench.benchmark.trial import TrialSpec
-from terrabench.benchmark.worker import default_workers, execute
+from terrabench.benchmark.worker import BudgetOf, FaultCounts, Land, default_workers, execute
 from terrabench.benchmark.worker import fault_result as _fault_result
 
 #: Ray task retries after a worker death (Ray's own mechanism).
@@ -38,8 +38,8 @@ def _check_reachable(address: str) -> None:
                          f"(nothing answered within {RAY_CONNECT_TIMEOUT_S:.0f} s)") from None
 
 
-def run_ray(todo: list[TrialSpec], land, workers: int | None, address: str | None, budget_of,
-             summary: Any) -> None:
+def run_ray(todo: list[TrialSpec], land: Land, workers: int | None, address: str | None, budget_of: BudgetOf,
+             summary: FaultCounts) -> None:
     try:
         import ray
         from ray import exceptions as rex
@@ -49,7 +49,7 @@ def run_ray(todo: list[TrialSpec], land, workers: int | None, address: str | Non
     if started_here:
         if address:
             _check_reachable(address)
-        kwargs = {"address": address} if address else {"num_cpus": workers or default_workers()}
+        kwargs: dict[str, Any] = {"address": address} if address else {"num_cpus": workers or default_workers()}
         if portable.wanted():  # every node's workers start on the same CPU code paths
             kwargs["runtime_env"] = {"env_vars": portable.pins()}
         try:

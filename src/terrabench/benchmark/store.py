@@ -268,7 +268,9 @@ class ResultsStore:
 
     def trial_count(self) -> int:
         """How many trial rows the store holds."""
-        return int(self.con.execute("SELECT count(*) FROM trials").fetchone()[0])
+        row = self.con.execute("SELECT count(*) FROM trials").fetchone()
+        assert row is not None  # count(*) always returns one row
+        return int(row[0])
 
     def __enter__(self) -> "ResultsStore":
         return self

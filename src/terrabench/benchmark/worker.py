@@ -11,9 +11,22 @@ import os
 import signal
 import time
 import traceback
-from typing import Any
+from typing import Any, Callable, Protocol
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
+
+#: ``land(spec, result)``: store one finished trial (the runner's; every backend calls it once per spec)
+Land = Callable[[TrialSpec, TrialResult], None]
+#: ``budget_of(spec)``: the wall-clock seconds a trial may take before it counts as hung
+BudgetOf = Callable[[TrialSpec], float]
+
+
+class FaultCounts(Protocol):
+    """The fault counters a backend adds to (those of :class:`terrabench.benchmark.runner.RunSummary`)."""
+
+    retried: int
+    worker_deaths: int
+    hung: int
 
 
 def execute(spec: TrialSpec) -> TrialResult:
@@ -51,7 +64,8 @@ def host_fingerprint() -> dict[str, Any]:
     from terrabench import portable
 
     try:
-        from numpy._core import _multiarray_umath as um  # numpy >= 2
+        # numpy >= 2; a private C module that numpy's stubs do not declare
+        from numpy._core import _multiarray_umath as um  # type: ignore[attr-defined]
     except ImportError:  # pragma: no cover - numpy 1.x
         from numpy.core import _multiarray_umath as um
     features = getattr(um, "__cpu_features__", {})

@@ -23,10 +23,16 @@ import html
 import json
 import math
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Sequence
 
 from terrabench.paths import check_out_dir
 from terrabench.report.variants import settings_diff
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from terrabench.benchmark.trial import TrialSpec
+    from terrabench.systems.base import System
 
 #: what a page wrote last time (pruned on the next report into the same folder)
 MANIFEST = ".terrabench-report.json"
@@ -123,7 +129,7 @@ class Page:
         link = f" <a href='{csv_name}'>{csv_name}</a>" if csv_name else ""
         self.raw(table_html(lines, columns, **kwargs) + link)
 
-    def figure(self, fig: Any, name: str, caption: str, dpi: int = 110) -> None:
+    def figure(self, fig: Figure, name: str, caption: str, dpi: int = 110) -> None:
         """Save the matplotlib ``fig`` as ``name`` (PNG) beside the page, close it, show it with
         ``caption`` (HTML)."""
         import matplotlib.pyplot as plt
@@ -150,7 +156,7 @@ class Page:
         self.written.add(name)
         return path
 
-    def snapshots(self, name: str, caption: str, system: Any, spec: Any, times: Sequence[float],
+    def snapshots(self, name: str, caption: str, system: System, spec: TrialSpec, times: Sequence[float],
                   **kwargs: Any) -> bool:
         """Render a strip of ``spec``'s episode at ``times`` as ``name`` and show it with ``caption``
         (:func:`terrabench.report.render.snapshot_strip`; ``kwargs``: width, height, overlay, track).
@@ -170,7 +176,7 @@ class Page:
         self.image(name, caption)
         return True
 
-    def clip(self, name: str, caption: str, system: Any, spec: Any, seconds: float, *, every: int,
+    def clip(self, name: str, caption: str, system: System, spec: TrialSpec, seconds: float, *, every: int,
              fps: float = 25.0, **kwargs: Any) -> bool:
         """Render the first ``seconds`` simulated seconds of ``spec``'s episode as the ``.mp4`` clip
         ``name`` (a frame every ``every`` control periods, played at ``fps``) and show it with

@@ -25,10 +25,14 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
+from typing import Literal, TypedDict, overload
 
 #: the command that rewrites the blocks (named in every --check failure)
 WRITE_COMMAND = "python -m terrabench.report.readme --write"
 BLOCK_RE = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n(.*?)<!-- /generated -->", re.S)
+
+#: one CSV row as ``csv.DictReader`` reads it: column -> cell text
+Row = dict[str, str]
 
 
 class MissingSource(FileNotFoundError):
@@ -66,7 +70,13 @@ class Sources:
     def rel(self, path: Path) -> str:
         return path.relative_to(self.root).as_posix()
 
-    def read(self, rel: str, how: str = "", required: bool = True) -> list[dict[str, str]] | None:
+    @overload
+    def read(self, rel: str, how: str = "", required: Literal[True] = True) -> list[Row]: ...
+
+    @overload
+    def read(self, rel: str, how: str = "", *, required: bool) -> list[Row] | None: ...
+
+    def read(self, rel: str, how: str = "", required: bool = True) -> list[Row] | None:
         path = self.root / rel
         if not path.is_file():
             if required:
@@ -179,7 +189,8 @@ def block_envs(src: Sources) -> Block:
     from terrabench.catalog import populate, system
 
     reg = populate()
-    have, none = [], []
+    have: list[tuple[str, tuple[str, ...]]] = []
+    none: list[tuple[str, tuple[str, ...]]] = []
     for sid in sorted(reg.ids("system")):
         ids = system(sid).env_ids
         (have if ids else none).append((sid, ids))
@@ -322,13 +333,24 @@ def _terrain_span(src: Sources, folder: str, group: str) -> str:
     return ids[0] if len(ids) == 1 else f"{ids[0]}..{ids[-1]}"
 
 
+class _SeedsLine(TypedDict):
+    """One row of the several-starts table: a report folder's ``nsr_seeds.csv`` row and its seed-0 row."""
+
+    folder: str
+    group: str
+    row: Row
+    seed0: Row | None
+    n_seeds: int
+    n: int
+
+
 def block_mrs_seeds(src: Sources) -> Block:
     """NSR over several starts (nsr_seeds.csv of each docs/results/mrs-cwc-seeds* report) beside
     the same report's seed-0 NSR."""
     paths = sorted(src.glob("docs/results/mrs-cwc-seeds*/nsr_seeds.csv"), key=lambda p: p.rsplit("/", 1)[0])
     if not paths:
         return Block("No report with several seeds per terrain is landed (`docs/results/mrs-cwc-seeds*/`).", ())
-    lines = []
+    lines: list[_SeedsLine] = []
     for rel in paths:
         folder = rel.rsplit("/", 1)[0]
         seeds = src.read(rel)
@@ -405,8 +427,8 @@ def block_octopus(src: Sources) -> Block:
             f"others ended and the paper's result; the extreme pitch and the lowest static stability margin of "
             f"{lead} over the seeds, the paper's in parentheses:\n\n"
             + table(["task"] + modes + [f"{lead} max pitch rad", f"{lead} min margin m"], out))
-    margins = [(fnum(o), fnum(p)) for o, p in (_paren(r.get("min margin m", "")) for r in rows)]
-    margins = [(o, p) for o, p in margins if o is not None and p is not None]
+    pairs = [(fnum(o), fnum(p)) for o, p in (_paren(r.get("min margin m", "")) for r in rows)]
+    margins = [(o, p) for o, p in pairs if o is not None and p is not None]
     if margins:
         body += (f"\n\nWhere the paper gives a static margin, ours is {span([o for o, _ in margins], 2, ' m')} "
                  f"against its {span([p for _, p in margins], 2, ' m')}.")
@@ -428,7 +450,7 @@ def block_soil_single(src: Sources) -> Block:
     cols = list(first[0]) if first else []
     dp_cols = [c for c in cols if c.startswith("DP/W s=")]
     sink_cols = [c for c in cols if c.startswith("sinkage mm")]
-    loads = sorted({fnum(r.get("load N")) for rs in soils.values() for r in rs} - {None})
+    loads = sorted(v for v in {fnum(r.get("load N")) for rs in soils.values() for r in rs} if v is not None)
     ref = 100.0 if 100.0 in loads else (loads[0] if loads else None)
     heavy = loads[-1] if loads else None
 
@@ -450,10 +472,8 @@ def block_soil_single(src: Sources) -> Block:
             rig = next((r for r in rs if r.get("variant") == "rig" and fnum(r.get("load N")) == load), None)
             ana = next((r for r in rs if r.get("variant") == "analytic" and fnum(r.get("load N")) == load), None)
             if rig and ana:
-                dp_err += [abs(fnum(rig[c]) - fnum(ana[c])) for c in dp_cols
-                           if fnum(rig.get(c)) is not None and fnum(ana.get(c)) is not None]
-                sink_err += [abs(fnum(rig[c]) - fnum(ana[c])) for c in sink_cols
-                             if fnum(rig.get(c)) is not None and fnum(ana.get(c)) is not None]
+                dp_err += _abs_diffs(rig, ana, dp_cols)
+                sink_err += _abs_diffs(rig, ana, sink_cols)
     body = (f"`terrabench run soil --group single-wheel` ({len(soils)} soils, loads "
             f"{' / '.join(num(v, 0) for v in loads)} N, the MuJoCo rig and the analytic steady state): "
             "drawbar-pull coefficient DP/W of the rig on the HIT-MRII wheel")
@@ -464,6 +484,16 @@ def block_soil_single(src: Sources) -> Block:
                  + " at these slips")
     body += ":\n\n" + table(header, rows)
     return src.block(body)
+
+
+def _abs_diffs(a: Row, b: Row, cols: Sequence[str]) -> list[float]:
+    """``|a[c] - b[c]|`` for each column ``c`` where both cells are numbers."""
+    out = []
+    for c in cols:
+        x, y = fnum(a.get(c)), fnum(b.get(c))
+        if x is not None and y is not None:
+            out.append(abs(x - y))
+    return out
 
 
 def _rms(text: str) -> tuple[str, str, bool | None]:
@@ -555,9 +585,14 @@ def block_srwmr_t14(src: Sources) -> Block:
         held = [r for r in t10 if fnum(r.get("paper power W")) is not None and fnum(r.get("power W")) is not None]
         if held:
             body += (f"\n\nT10 (RCLM, chassis held at {', '.join(r.get('period mm', '') for r in held)} mm): "
-                     f"mean mechanical power {span([fnum(r['power W']) for r in held], 1, ' W')}, the paper's "
-                     f"{span([fnum(r['paper power W']) for r in held], 0, ' W')}.")
+                     f"mean mechanical power {span(_nums(held, 'power W'), 1, ' W')}, the paper's "
+                     f"{span(_nums(held, 'paper power W'), 0, ' W')}.")
     return src.block(body)
+
+
+def _nums(rows: Sequence[Row], col: str) -> list[float]:
+    """The numbers in column ``col`` of ``rows`` (cells that are not numbers skipped)."""
+    return [v for v in (fnum(r.get(col)) for r in rows) if v is not None]
 
 
 def _t14_order(rows: list[dict]) -> str:

@@ -26,13 +26,18 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import math  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
-from typing import Any, Callable, Sequence  # noqa: E402
+from typing import TYPE_CHECKING, Any, Callable, Sequence  # noqa: E402
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
+if TYPE_CHECKING:
+    from terrabench.benchmark.trial import TrialSpec
+    from terrabench.sim.episode import Episode as SimEpisode
+    from terrabench.systems.base import System, Task
+
 #: ``overlay(task, obs) -> str``: a system's line of the text overlay (e.g. the stiffness K)
-Overlay = Callable[[Any, Any], str]
+Overlay = Callable[["Task", Any], str]
 
 VIDEO_SUFFIXES = (".mp4", ".gif", ".png")
 
@@ -53,7 +58,7 @@ def check_gl_env() -> None:
                          "(unset: egl, then osmesa)")
 
 
-def check_renderable(system: Any) -> None:
+def check_renderable(system: System) -> None:
     """ValueError (one line) if ``system`` has no MuJoCo episode to render (no ``make_task``)."""
     from terrabench.systems.base import System
 
@@ -172,7 +177,7 @@ class SceneRenderer:
     def __enter__(self) -> "SceneRenderer":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
 
@@ -198,7 +203,7 @@ def overlay_text(t: float, status: str, extra: str = "") -> str:
     return f"t = {t:6.2f} s  {status}" + (f"\n{extra}" if extra else "")
 
 
-def _check_fps(fps: float) -> None:
+def _check_fps(fps: object) -> None:
     if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not math.isfinite(fps) or fps <= 0:
         raise ValueError(f"fps must be a positive number of frames per simulated second, got {fps!r}")
 
@@ -236,6 +241,7 @@ def frame_times(control_period: float, n_periods: int, fps: float | None, every:
             raise ValueError(f"every must be a whole number of control periods >= 1, got {every!r}")
         return list(range(0, n_periods, every))
     _check_fps(fps)
+    assert fps is not None  # _check_fps refused it
     out, next_t, j = [], 0.0, 0
     for i in range(n_periods):
         if i * control_period + 1e-9 >= next_t:
@@ -246,14 +252,14 @@ def frame_times(control_period: float, n_periods: int, fps: float | None, every:
     return out
 
 
-def camera_of(task: Any) -> dict[str, float]:
+def camera_of(task: object) -> dict[str, float]:
     """A task's camera angles for :class:`SceneRenderer` (``task.camera``: azimuth and/or
     elevation in deg, e.g. a side view of a step), or ``{}`` for the default view."""
     cam = getattr(task, "camera", None) or {}
     return {k: float(cam[k]) for k in ("azimuth", "elevation") if k in cam}
 
 
-def _episode(system: Any, spec: Any):
+def _episode(system: System, spec: TrialSpec) -> tuple[Task, Callable[[Any], Any], type[SimEpisode]]:
     from terrabench.sim.episode import Episode
 
     cfg = system.load_config(spec.config)
@@ -262,8 +268,8 @@ def _episode(system: Any, spec: Any):
     return task, controller, Episode
 
 
-def render_trial(system: Any, spec: Any, out_path: str | Path, fps: float = 30, width: int = 640, height: int = 480,
-                 every: int | None = None, progress: Callable[[int, int], None] | None = None,
+def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: float = 30, width: int = 640,
+                 height: int = 480, every: int | None = None, progress: Callable[[int, int], None] | None = None,
                  overlay: Overlay | None = None, track: str | None = None) -> dict[str, Any]:
     """Run the benchmark episode of ``spec`` and write a clip of it.
 
@@ -289,7 +295,7 @@ def render_trial(system: Any, spec: Any, out_path: str | Path, fps: float = 30, 
     task, controller, Episode = _episode(system, spec)
     frames_at: set[int] = set()
     state: dict[str, Any] = {"i": 0, "frames": []}
-    ep = None
+    ep: SimEpisode  # bound below, before the first step calls grab
 
     def grab(task_, obs, cmd) -> None:
         i = state["i"]
@@ -354,7 +360,7 @@ def _write_gif(frames: list[np.ndarray], path: Path, fps: float) -> None:
     imgs[0].save(path, save_all=True, append_images=imgs[1:], duration=int(round(1000 / fps)), loop=0)
 
 
-def snapshots(system: Any, spec: Any, times: Sequence[float], width: int = 480, height: int = 360,
+def snapshots(system: System, spec: TrialSpec, times: Sequence[float], width: int = 480, height: int = 360,
               overlay: Overlay | None = None, track: str | None = None) -> list[np.ndarray]:
     """RGB uint8 frames (height, width, 3) of ``spec``'s benchmark episode at simulated ``times`` (s).
 
@@ -383,7 +389,7 @@ def snapshots(system: Any, spec: Any, times: Sequence[float], width: int = 480, 
     finally:
         renderer.close()
     order = np.argsort(np.asarray([float(t) for t in times]), kind="stable")
-    out: list[np.ndarray] = [None] * len(ts)  # type: ignore[list-item]
+    out = list(frames)  # placeholders: ``order`` is a permutation, every slot is set below
     for rank, idx in enumerate(order):
         out[idx] = frames[rank]
     return out
@@ -408,7 +414,7 @@ def frame_strip(frames: Sequence[np.ndarray], path: str | Path, gap: int = 4) ->
     return path
 
 
-def snapshot_strip(system: Any, spec: Any, times: Sequence[float], path: str | Path, *, width: int = 320,
+def snapshot_strip(system: System, spec: TrialSpec, times: Sequence[float], path: str | Path, *, width: int = 320,
                    height: int = 240, overlay: Overlay | None = None, track: str | None = None) -> Path:
     """Frames of ``spec``'s benchmark episode at ``times`` (:func:`snapshots`) side by side in one
     PNG at ``path`` (:func:`frame_strip`); returns the path.

@@ -3,12 +3,18 @@
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 from terrabench.systems.base import Transition
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
-def segments(events: Sequence[Any], t_end: float, start: str | None = None) -> list[tuple[str, float, float]]:
+#: one stored event: a :class:`Transition` or its ``[t, src, dst, reason]`` list (``info["events"]``)
+Event = Transition | Sequence[Any]
+
+
+def segments(events: Sequence[Event], t_end: float, start: str | None = None) -> list[tuple[str, float, float]]:
     """``[(state, t0, t1), ...]`` covering ``[0, t_end]`` from stored events (lists or Transitions).
 
     The first state is ``start`` if given, else the first event's ``src``; an event's ``dst`` holds
@@ -28,7 +34,7 @@ def segments(events: Sequence[Any], t_end: float, start: str | None = None) -> l
     return out
 
 
-def draw_timelines(ax: Any, timelines: Sequence[tuple[str, Sequence[Any], float]], *, start: str | None = None,
+def draw_timelines(ax: Axes, timelines: Sequence[tuple[str, Sequence[Event], float]], *, start: str | None = None,
                    palette: dict[str, Any] | None = None) -> dict[str, Any]:
     """One bar per trial on ``ax``: ``(label, events, t_end)``; states coloured consistently.
 

@@ -20,9 +20,12 @@ Usage in a report::
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping, Sequence
 
 from terrabench.benchmark.trial import canonical_json
+
+if TYPE_CHECKING:
+    from terrabench.systems.base import System
 
 _ABSENT = "<absent>"
 
@@ -42,7 +45,7 @@ class Defaults:
     """``(method, instance) -> config dict`` that ``system`` plans with no overrides (cached; None
     when this version cannot plan the pair, e.g. a method since removed)."""
 
-    def __init__(self, system: Any):
+    def __init__(self, system: System) -> None:
         self.system = system
         self._cache: dict[tuple[str, str], dict[str, Any] | None] = {}
 

@@ -27,13 +27,18 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, Protocol, Sequence
 
 import mujoco
 import numpy as np
 
 from terrabench.sim.physics import PhysicsConfig, diverged
-from terrabench.sim.scene import compile_scene
+from terrabench.sim.scene import SceneTask, compile_scene
+
+#: ``(status, reason)`` that stops an episode (None: it goes on)
+Stop = tuple[str, str]
+#: ``on_step(task, obs, cmd)``: called once per control period after the command is applied
+OnStep = Callable[[Any, Any, Any], None]
 
 
 @dataclass(frozen=True)
@@ -66,6 +71,36 @@ class Timing:
             raise ValueError(f"control period {self.control_period} s must be a whole number of physics "
                              f"steps ({timestep} s)")
         return int(round(ratio))
+
+
+class EpisodeTask(SceneTask, Protocol):
+    """What the loop reads of a task: the part of :class:`terrabench.systems.base.Task` it steps.
+
+    Restated structurally because :mod:`terrabench.systems.base` imports this module; the type
+    checker verifies that a ``Task`` is an ``EpisodeTask`` where ``run_task`` hands one over.
+    Observations and commands are the system's own types.
+    """
+
+    @property
+    def timing(self) -> Timing: ...
+
+    @property
+    def columns(self) -> tuple[str, ...]: ...
+
+    @property
+    def before_substep(self) -> Callable[[mujoco.MjModel, mujoco.MjData], None] | None: ...
+
+    def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Any: ...
+
+    def observe(self) -> Any: ...
+
+    def check(self, obs: Any, slow: bool) -> Stop | None: ...
+
+    def apply(self, cmd: Any) -> None: ...
+
+    def row(self, obs: Any, cmd: Any | None) -> Sequence[float]: ...
+
+    def power(self, obs: Any) -> float: ...
 
 
 @dataclass
@@ -132,7 +167,7 @@ class Episode:
     ``ep.log()`` is the :class:`EpisodeLog`.
     """
 
-    def __init__(self, task: Any, *, on_step: Callable[[Any, Any, Any], None] | None = None):
+    def __init__(self, task: EpisodeTask, *, on_step: OnStep | None = None) -> None:
         self.wall0 = time.perf_counter()
         self.task = task
         self.model, self.data = compile_scene(task)
@@ -151,16 +186,16 @@ class Episode:
         self.on_step = on_step
         self.energy = 0.0
         self.k = 0
-        self.stop: tuple[str, str] | None = None
+        self.stop: Stop | None = None
         self.engine_time = 0.0
         self._loop0 = self._cpu0 = 0.0
 
-    def begin(self):
+    def begin(self) -> tuple[Any, Stop | None]:
         """Observe the dropped start; returns ``(obs, stop)`` (stop is None or (status, reason))."""
         self._loop0, self._cpu0 = time.perf_counter(), time.process_time()
         return self._observe()
 
-    def _observe(self):
+    def _observe(self) -> tuple[Any, Stop | None]:
         task, k = self.task, self.k
         obs = task.observe()
         slow = k % self.check_every == 0
@@ -179,7 +214,7 @@ class Episode:
         self.obs = obs
         return obs, stop
 
-    def step(self, cmd):
+    def step(self, cmd: Any) -> tuple[Any, Stop | None]:
         """Apply ``cmd`` for one control period; returns ``(obs, stop)``."""
         if self.stop is not None:
             raise RuntimeError(f"the episode has ended ({self.stop[0]}: {self.stop[1]}); start a new one")
@@ -214,8 +249,8 @@ class Episode:
         return EpisodeLog(status, reason, self.k, self.period, self.columns, self._log[:n], timing)
 
 
-def run_episode(task: Any, controller: Callable[[Any], Any], *,
-                on_step: Callable[[Any, Any, Any], None] | None = None) -> EpisodeLog:
+def run_episode(task: EpisodeTask, controller: Callable[[Any], Any], *,
+                on_step: OnStep | None = None) -> EpisodeLog:
     """Run ``task`` with ``controller`` (``obs -> cmd``) to its stop; returns the log.
 
     ``on_step(task, obs, cmd)``, if given, is called once per control period after the

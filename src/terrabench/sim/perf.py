@@ -23,17 +23,23 @@ from __future__ import annotations
 
 import copy
 import time
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import mujoco
 import numpy as np
 
-from terrabench.sim.episode import run_episode
+from terrabench.sim.episode import EpisodeTask, run_episode
 from terrabench.sim.scene import compile_scene
 
+if TYPE_CHECKING:
+    from rich.table import Table
 
-def measure(system: Any, method: str | None, instances: Sequence[str] | None, seconds: float,
-            repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict]:
+    from terrabench.benchmark.trial import TrialSpec
+    from terrabench.systems.base import System
+
+
+def measure(system: System, method: str | None, instances: Sequence[str] | None, seconds: float,
+            repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict[str, Any]]:
     """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds), with
     config ``overrides`` (dotted keys, as ``--set``)."""
     if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
@@ -71,7 +77,7 @@ def measure(system: Any, method: str | None, instances: Sequence[str] | None, se
     return rows
 
 
-def _record(system: Any, spec, cfg) -> list[Any]:
+def _record(system: System, spec: TrialSpec, cfg: Any) -> list[Any]:
     commands: list[Any] = []
     task = system.make_task(spec, cfg)
     # controllers may return one command object mutated in place: keep copies
@@ -80,7 +86,7 @@ def _record(system: Any, spec, cfg) -> list[Any]:
     return commands
 
 
-def _replay(task: Any, commands: list[Any]) -> float:
+def _replay(task: EpisodeTask, commands: list[Any]) -> float:
     m, d = compile_scene(task)
     task.bind(m, d)
     nsub = task.timing.substeps(task.physics.timestep)
@@ -98,7 +104,7 @@ def _replay(task: Any, commands: list[Any]) -> float:
     return time.process_time() - t0
 
 
-def perf_table(system_id: str, rows: list[dict]):
+def perf_table(system_id: str, rows: list[dict[str, Any]]) -> Table:
     from rich.table import Table
 
     methods = ", ".join(sorted({r["method"] for r in rows}))

@@ -20,27 +20,19 @@ SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL
 
 @dataclass(frozen=True)
 class PhysicsConfig:
-    """MuJoCo options.
-
-    Attributes:
-        timestep: physics step (s).
-        integrator: one of ``euler, implicitfast, implicit, rk4``.
-        solver: one of ``newton, cg, pgs``.
-        iterations: constraint solver iterations.
-        ccd_tolerance: convergence tolerance of convex collision detection (m). 1e-4 (MuJoCo's
-            default is 1e-6) is 1.5x faster on the wheel-on-hfield contacts and still resolves
-            penetration to 0.1 mm on a robot with 5 cm wheels.
-        gravity: (m/s^2), z component.
-        max_speed: any generalised speed above this counts as divergence (m/s or rad/s).
-    """
+    """MuJoCo options."""
 
     timestep: float = param(0.005, gt=0, unit="s", doc="physics step")
     integrator: str = param("implicitfast", choices=INTEGRATORS, doc="MuJoCo integrator")
     solver: str = param("newton", choices=SOLVERS, doc="MuJoCo constraint solver")
     iterations: int = param(50, ge=1, doc="constraint solver iterations")
-    ccd_tolerance: float = param(1e-4, gt=0, unit="m", doc="convex collision detection tolerance")
+    ccd_tolerance: float = param(1e-4, gt=0, unit="m",
+                                 doc="convergence tolerance of convex collision detection; 1e-4 (MuJoCo's default is "
+                                     "1e-6) is 1.5x faster on the wheel-on-hfield contacts and still resolves "
+                                     "penetration to 0.1 mm on a robot with 5 cm wheels")
     gravity: float = param(-9.81, le=0, unit="m/s^2", doc="z component of gravity (down is negative)")
-    max_speed: float = param(1000.0, gt=0, unit="m/s or rad/s", doc="any generalised speed above this is divergence")
+    max_speed: float = param(1000.0, gt=0, unit="m/s or rad/s",
+                             doc="any generalised speed above this counts as divergence")
 
     def __post_init__(self) -> None:
         check_fields(self)

@@ -8,12 +8,25 @@ sensors read the start state before the task binds its names to ids.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable, Protocol
 
 import mujoco
 
+if TYPE_CHECKING:
+    from terrabench.sim.physics import PhysicsConfig
 
-def compile_scene(task: Any) -> tuple[mujoco.MjModel, mujoco.MjData]:
+
+class SceneTask(Protocol):
+    """What scene assembly reads of a task: the scene-building part of
+    :class:`terrabench.systems.base.Task` (restated structurally, as that module imports the loop)."""
+
+    @property
+    def physics(self) -> PhysicsConfig: ...
+
+    def build(self, spec: mujoco.MjSpec) -> None: ...
+
+
+def compile_scene(task: SceneTask) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """Build ``task``'s scene into a new spec, compile it and forward the start state."""
     spec = mujoco.MjSpec()
     task.physics.apply(spec)
@@ -45,7 +58,7 @@ def index_view(array: Any, ids: Any) -> Any:
     return array[ids]
 
 
-def writer(array: Any, ids: Any):
+def writer(array: Any, ids: Any) -> Callable[[Any], None]:
     """A function ``set(values)`` doing ``array[ids] = values``, through a view when it can."""
     import numpy as np
 

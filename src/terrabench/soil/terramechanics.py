@@ -45,41 +45,7 @@ FORMS = ("bekker", "reece")
 
 @dataclass(frozen=True)
 class SoilParams:
-    """Soil parameters (Bekker or Reece pressure-sinkage, Wong-Reece, Janosi-Hanamoto).
-
-    Attributes:
-        name: label used in reports.
-        form: "bekker": ``sigma = (k_c/b + k_phi) z^n`` (k_c in N/m^(n+1), k_phi in N/m^(n+2));
-            "reece": ``sigma = (c k_c + gamma b k_phi) (z/b)^n`` (k_c, k_phi dimensionless, Reece 1965).
-        n: sinkage exponent at zero slip (-), in (0, 3).
-        n1: slip-sinkage coefficient when driving, ``n(s) = n + n1 s`` for s >= 0 (Ding et al.
-            2011), in [-1, 2]; ``n + n1 > 0``.
-        n2: the same in skid, ``n(s) = n + n2 |s|`` for s < 0 (robomechanics 3d-terramechanics),
-            in [-1, 2]; ``n + n2 > 0``. With lateral motion the exponent is
-            ``n + n1 s_drive + n2 s_slide``: ``s_drive = max(r omega - v_x, 0) / u`` (the rim
-            outrunning the hub along the heading), ``s_slide = |(max(v_x - r omega, 0), v_y)| / u``
-            (the soil sliding past a rim that does not carry it), ``u = max(r omega, |v|)``; both
-            reduce to the forms above when v_y = 0.
-        k_c: cohesive modulus (Bekker N/m^(n+1), Reece -), >= 0.
-        k_phi: frictional modulus (Bekker N/m^(n+2), Reece -), > 0.
-        c: cohesion (Pa), >= 0.
-        phi_deg: internal friction angle (deg), in (0, 90).
-        gamma: soil specific weight (N/m^3), > 0 (Reece form and bulldozing).
-        K: longitudinal shear deformation modulus (m), > 0.
-        K_y: lateral shear deformation modulus (m), > 0; None = same as K.
-        a0: ``theta_m = (a0 + a1 s) theta_1``, constant part (-), in [0, 1).
-        a1: slip part when driving (-), in [-1, 1]; ``0 <= a0 + a1 <= 1``.
-        a1_skid: slip part in skid, ``theta_m = (a0 + a1_skid s) theta_1`` for s < 0 (-), in
-            [-1, 1]; None = a1. theta_m is clipped to [theta_r, theta_1].
-        c_exit: exit angle ratio at zero slip, ``theta_r = -(c_exit + c_exit1 s) theta_1`` (-),
-            in [0, 1]; 0 = the classical no-rebound assumption.
-        c_exit1: slip part of the exit ratio (-), in [-1, 1]; the ratio is clipped to [0, 1].
-        bulldoze: factor on the sidewall bulldozing force (Ishigami 2007 with Hegedus' passive
-            pressure), in [0, 10]; 0 = off.
-        plough: factor on the front-face ploughing resistance of a braked wheel (the same passive
-            pressure over the rut depth, mobilised by the skid -s), in [0, 10]; 0 = off.
-        source: citation / provenance string.
-    """
+    """Soil parameters (Bekker or Reece pressure-sinkage, Wong-Reece, Janosi-Hanamoto)."""
 
     name: str = param("soil", doc="label used in reports")
     n: float = param(1.0, gt=0, lt=3, doc="sinkage exponent at zero slip")
@@ -91,16 +57,34 @@ class SoilParams:
     K_y: float | None = param(None, gt=0, unit="m", doc="lateral shear deformation modulus (null = K)")
     a0: float = param(0.4, ge=0, lt=1, doc="theta_m = (a0 + a1 s) theta_1: constant part")
     a1: float = param(0.15, ge=-1, le=1, doc="slip part of theta_m when driving (0 <= a0 + a1 <= 1)")
-    c_exit: float = param(0.0, ge=0, le=1, doc="exit angle ratio at zero slip (0 = no rebound)")
-    source: str = param("", doc="citation / provenance")
-    form: str = param("bekker", choices=FORMS, doc="pressure-sinkage form: bekker or reece")
-    n1: float = param(0.0, ge=-1, le=2, doc="slip-sinkage coefficient when driving (n + n1 > 0)")
-    n2: float = param(0.0, ge=-1, le=2, doc="slip-sinkage coefficient in skid (n + n2 > 0)")
-    gamma: float = param(15.0e3, gt=0, unit="N/m^3", doc="soil specific weight")
-    a1_skid: float | None = param(None, ge=-1, le=1, doc="slip part of theta_m in skid (null = a1)")
-    c_exit1: float = param(0.0, ge=-1, le=1, doc="slip part of the exit ratio")
-    bulldoze: float = param(1.0, ge=0, le=10, doc="factor on the sidewall bulldozing force (0 = off)")
-    plough: float = param(1.0, ge=0, le=10, doc="factor on the front-face ploughing resistance in skid (0 = off)")
+    c_exit: float = param(0.0, ge=0, le=1,
+                          doc="exit angle ratio at zero slip, theta_r = -(c_exit + c_exit1 s) theta_1 (0 = the "
+                              "classical no-rebound assumption)")
+    source: str = param("", doc="citation / provenance string")
+    form: str = param("bekker", choices=FORMS,
+                      doc="pressure-sinkage form: bekker, sigma = (k_c/b + k_phi) z^n (k_c in N/m^(n+1), k_phi in "
+                          "N/m^(n+2)); reece, sigma = (c k_c + gamma b k_phi) (z/b)^n (k_c, k_phi dimensionless, "
+                          "Reece 1965)")
+    n1: float = param(0.0, ge=-1, le=2,
+                      doc="slip-sinkage coefficient when driving, n(s) = n + n1 s for s >= 0 (Ding et al. 2011); n + "
+                          "n1 > 0")
+    n2: float = param(0.0, ge=-1, le=2,
+                      doc="slip-sinkage coefficient in skid, n(s) = n + n2 |s| for s < 0 (robomechanics "
+                          "3d-terramechanics); n + n2 > 0. With lateral motion the exponent is n + n1 s_drive + n2 "
+                          "s_slide: s_drive = max(r omega - v_x, 0) / u (the rim outrunning the hub along the "
+                          "heading), s_slide = |(max(v_x - r omega, 0), v_y)| / u (the soil sliding past a rim that "
+                          "does not carry it), u = max(r omega, |v|); with v_y = 0 this is n(s) of n1 and n2")
+    gamma: float = param(15.0e3, gt=0, unit="N/m^3", doc="soil specific weight (Reece form and bulldozing)")
+    a1_skid: float | None = param(None, ge=-1, le=1,
+                                  doc="slip part of theta_m in skid, theta_m = (a0 + a1_skid s) theta_1 for s < 0 "
+                                      "(null = a1); theta_m is clipped to [theta_r, theta_1]")
+    c_exit1: float = param(0.0, ge=-1, le=1, doc="slip part of the exit ratio c_exit; the ratio is clipped to [0, 1]")
+    bulldoze: float = param(1.0, ge=0, le=10,
+                            doc="factor on the sidewall bulldozing force (Ishigami 2007 with Hegedus' passive "
+                                "pressure; 0 = off)")
+    plough: float = param(1.0, ge=0, le=10,
+                          doc="factor on the front-face ploughing resistance of a braked wheel (the same passive "
+                              "pressure over the rut depth, mobilised by the skid -s; 0 = off)")
 
     def __post_init__(self) -> None:
         check_fields(self)  # the declared ranges; then the checks across fields
@@ -156,19 +140,13 @@ class SoilParams:
 
 @dataclass(frozen=True)
 class WheelParams:
-    """A rigid, smooth cylindrical wheel (no grousers).
-
-    Attributes:
-        radius: (m), in (0, 2].
-        width: contact width b (m), > 0.
-        mass: (kg), > 0; used by the MuJoCo testbed.
-    """
+    """A rigid, smooth cylindrical wheel (no grousers)."""
 
     radius: float = param(0.15, gt=0, le=2.0, unit="m",
                           doc="wheel radius; <= 2 m: Bekker-Wong pressure-sinkage was measured with "
                               "plates and wheels well under a metre, beyond that it is extrapolation")
     width: float = param(0.12, gt=0, unit="m", doc="contact width b")
-    mass: float = param(2.0, gt=0, unit="kg", doc="wheel mass (the MuJoCo testbed)")
+    mass: float = param(2.0, gt=0, unit="kg", doc="wheel mass (used by the MuJoCo testbed)")
 
     def __post_init__(self) -> None:
         check_fields(self)

@@ -24,10 +24,20 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
 
 from terrabench.benchmark.trial import TrialResult, TrialSpec
 from terrabench.config import from_dict, override, to_dict
+
+if TYPE_CHECKING:  # types of the contract only (no import at run time)
+    import mujoco
+    from rich.console import RenderableType
+
+    from terrabench.benchmark.store import ResultsStore
+    from terrabench.envs.adapter import EnvAdapter
+    from terrabench.registry import Registry
+    from terrabench.sim.episode import EpisodeLog, OnStep, Timing
+    from terrabench.sim.physics import PhysicsConfig
 
 
 @runtime_checkable
@@ -39,17 +49,19 @@ class Task(Protocol):
         timing: :class:`~terrabench.sim.episode.Timing` (control period, timeout, cadences).
         columns: names of the values :meth:`row` returns, in order.
         before_substep: optional ``(model, data) -> None`` called before every physics step
-            (e.g. soil forces into ``data.xfrc_applied``); absent or None keeps the C fast path.
+            (e.g. soil forces into ``data.xfrc_applied``); None (:class:`TaskBase`'s default)
+            keeps the C fast path.
     """
 
-    physics: Any
-    timing: Any
+    physics: PhysicsConfig
+    timing: Timing
     columns: tuple[str, ...]
+    before_substep: Callable[[mujoco.MjModel, mujoco.MjData], None] | None
 
-    def build(self, spec: Any) -> None:
+    def build(self, spec: mujoco.MjSpec) -> None:
         """Add the arena and the robot to an empty ``mujoco.MjSpec`` (physics is set already)."""
 
-    def bind(self, model: Any, data: Any) -> Any:
+    def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Any:
         """Resolve names to ids after compiling; return the observation object."""
 
     def observe(self) -> Any:
@@ -67,7 +79,7 @@ class Task(Protocol):
     def power(self, obs: Any) -> float:
         """Instantaneous electrical-mechanical power drawn (W), for the energy integral."""
 
-    def metrics(self, log: Any) -> dict[str, float]:
+    def metrics(self, log: EpisodeLog) -> dict[str, float]:
         """Named figures of the finished episode."""
 
     def info(self) -> dict[str, Any]:
@@ -78,7 +90,7 @@ class TaskBase:
     """Defaults for the optional parts of :class:`Task`; a system's task subclasses it."""
 
     #: ``(model, data) -> None`` before every physics step, or None for the C fast path
-    before_substep: Callable[[Any, Any], None] | None = None
+    before_substep: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None
 
     def info(self) -> dict[str, Any]:
         return {}
@@ -163,7 +175,7 @@ def events_info(events: Sequence[Transition]) -> dict[str, Any]:
     return {"events": [e.as_list() for e in events]}
 
 
-def controller_info(controller: Any) -> dict[str, Any]:
+def controller_info(controller: object) -> dict[str, Any]:
     """The controller's ``info()`` extras, or ``{}`` when it defines none."""
     fn = getattr(controller, "info", None)
     return dict(fn()) if callable(fn) else {}
@@ -295,7 +307,7 @@ class System:
     def make_controller(self, spec: TrialSpec, cfg: Any, task: Task) -> Callable[[Any], Any]:
         raise NotImplementedError
 
-    def run_trial(self, spec: TrialSpec, *, on_step: Callable | None = None) -> TrialResult:
+    def run_trial(self, spec: TrialSpec, *, on_step: OnStep | None = None) -> TrialResult:
         """Run one spec through the shared episode loop; physics trouble is a status, not a raise."""
         t0 = time.perf_counter()
         cfg = self.load_config(spec.config)
@@ -304,7 +316,7 @@ class System:
         result.wall_time = time.perf_counter() - t0
         return result
 
-    def env_adapter(self) -> Any:
+    def env_adapter(self) -> EnvAdapter:
         """The Gymnasium glue of this system (spaces, observation/action mapping, reward terms);
         see :mod:`terrabench.envs`. Systems without an env leave this unimplemented."""
         raise NotImplementedError(f"system {self.id!r} has no Gymnasium environment")
@@ -314,7 +326,7 @@ class System:
         return ""
 
     # ------------------------------------------------------------------ results (override)
-    def summarize(self, rows: list[dict[str, Any]]) -> Any:
+    def summarize(self, rows: list[dict[str, Any]]) -> RenderableType:
         """A rich renderable of stored rows beside the paper's numbers."""
         from rich.table import Table
 
@@ -329,11 +341,11 @@ class System:
             t.add_row(m, str(sum(d.values())), ", ".join(f"{k} {v}" for k, v in sorted(d.items())))
         return t
 
-    def report(self, store: Any, out_dir: Path) -> Path:
+    def report(self, store: ResultsStore, out_dir: Path) -> Path:
         raise NotImplementedError(f"system {self.id!r} has no report yet")
 
     # ------------------------------------------------------------------ registry
-    def register(self, registry: Any, target: str, scenario_summaries: Mapping[str, str] | None = None) -> None:
+    def register(self, registry: Registry, target: str, scenario_summaries: Mapping[str, str] | None = None) -> None:
         """Add this system, its scenarios and its methods to ``registry``."""
         from terrabench.registry import Record
 
@@ -344,14 +356,14 @@ class System:
             registry.register(Record("method", m.id, m.summary, target, self.id, m.tags))
 
 
-def run_task(task: Task, controller: Callable[[Any], Any], *, on_step: Callable | None = None) -> TrialResult:
+def run_task(task: Task, controller: Callable[[Any], Any], *, on_step: OnStep | None = None) -> TrialResult:
     """One episode of ``task`` driven by ``controller``, as a trial result (:func:`episode_result`)."""
     from terrabench.sim.episode import run_episode
 
     return episode_result(task, run_episode(task, controller, on_step=on_step), controller)
 
 
-def episode_result(task: Task, log: Any, controller: Any = None) -> TrialResult:
+def episode_result(task: Task, log: EpisodeLog, controller: object = None) -> TrialResult:
     """A finished episode's :class:`TrialResult` (the benchmark's and the Gymnasium env's).
 
     Metrics are the task's plus ``sim_time``; the series is the log thinned to

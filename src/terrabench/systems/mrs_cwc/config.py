@@ -22,45 +22,33 @@ WAYPOINT_SOURCES = ("released", "planner")
 
 @dataclass(frozen=True)
 class ProtocolConfig:
-    """Start, target, success and failure (spec section 2).
-
-    Attributes:
-        start_xy: leader start (m); the chain trails along -x.
-        target_xy: target (m); the released scenes use (9, -9).
-        drop_height: leader dropped this far above the highest sampled terrain point (m).
-        drop_probe_x: x positions sampled at y = start y for the drop height (m).
-        success_threshold: XY leader-target distance that counts as arrival (m).
-        timeout: simulated time limit (s).
-        fall_z: leader below this height has fallen off the world (m).
-        control_period: controller period (s).
-        log_period: period of the stored leader time series (s); metrics use every period.
-        divergence_check_period: how often the state is checked for blow-up (s).
-        start_jitter: seeds > 0 shift the start uniformly by up to this much in x and y (m);
-            seed 0 is the released protocol exactly.
-        stall_time: opt-in early stop (0 = off, the default): status ``stuck`` once the leader
-            has moved less than ``stall_distance`` from where it last moved and d_min (the
-            closest it has come to the target, which alone fixes NCR and success) has not
-            improved by ``stall_distance`` for this long (s). Checked every
-            ``divergence_check_period``. A stopped trial keeps the NCR it had; a chain that
-            stood still this long may in principle still break free later, so this changes
-            outcomes and is off by default (documented in docs/mrs-cwc-findings.md).
-        stall_distance: the movement / d_min improvement that counts as progress (m).
-    """
+    """Start, target, success and failure (spec section 2)."""
 
     start_xy: tuple[float, float] = param((0.0, 0.0), length=2, unit="m", doc="leader start; the chain trails along -x")
-    target_xy: tuple[float, float] = param((9.0, -9.0), length=2, unit="m", doc="target position")
-    drop_height: float = param(0.5, ge=0, unit="m", doc="drop above the highest sampled terrain point")
+    target_xy: tuple[float, float] = param((9.0, -9.0), length=2, unit="m",
+                                           doc="target; the released scenes use (9, -9)")
+    drop_height: float = param(0.5, ge=0, unit="m",
+                               doc="the leader is dropped this far above the highest sampled terrain point")
     drop_probe_x: tuple[float, ...] = param((0.34, 0.12, 0.0, -0.3, -0.6, -0.9, -1.2, -1.5), length=8, unit="m",
                                             doc="x positions sampled at the start y for the drop height")
     success_threshold: float = param(0.5, gt=0, unit="m", doc="XY leader-target distance that counts as arrival")
     timeout: float = param(1000.0, gt=0, unit="s", doc="simulated time limit")
     fall_z: float = param(-50.0, unit="m", doc="leader below this height has fallen off the world (any height)")
     control_period: float = param(0.025, gt=0, unit="s", doc="controller period")
-    log_period: float = param(0.1, gt=0, unit="s", doc="period of the stored leader time series")
+    log_period: float = param(0.1, gt=0, unit="s",
+                              doc="period of the stored leader time series (metrics use every control period)")
     divergence_check_period: float = param(0.5, gt=0, unit="s", doc="how often the state is checked for blow-up")
-    start_jitter: float = param(0.05, ge=0, unit="m", doc="seeds > 0 shift the start by up to this much in x and y")
-    stall_time: float = param(0.0, ge=0, unit="s", doc="opt-in stall stop after this long without progress (0 = off)")
-    stall_distance: float = param(0.05, gt=0, unit="m", doc="movement / d_min improvement that counts as progress")
+    start_jitter: float = param(0.05, ge=0, unit="m",
+                                doc="seeds > 0 shift the start uniformly by up to this much in x and y; seed 0 is "
+                                    "the released protocol exactly")
+    stall_time: float = param(0.0, ge=0, unit="s",
+                              doc="opt-in early stop (0 = off, the default): status stuck once the leader has moved "
+                                  "less than stall_distance from where it last moved and d_min (the closest it has "
+                                  "come to the target, which alone fixes NCR and success) has not improved by "
+                                  "stall_distance for this long; checked every divergence_check_period; a stopped "
+                                  "trial keeps its NCR, but a chain that stood still this long may in principle "
+                                  "still break free later, so this changes outcomes (docs/mrs-cwc-findings.md)")
+    stall_distance: float = param(0.05, gt=0, unit="m", doc="the movement / d_min improvement that counts as progress")
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -68,19 +56,9 @@ class ProtocolConfig:
 
 @dataclass(frozen=True)
 class MRSConfig:
-    """Everything a trial needs besides (method, terrain, seed).
-
-    Attributes:
-        physics: MuJoCo options.
-        chain: robot dimensions and masses.
-        protocol: start/target/success/timeout.
-        drive: wheel-speed law.
-        stiffness: CWC stiffness law (CS forces mode "constant").
-        head_following: MJ control.
-        follow: D control.
-        waypoints: A* waypoint following.
-        waypoint_source: ``"released"`` (the benchmark's CSV) or ``"planner"`` (our A*).
-        planner: cost terms of our A* planner.
+    """Everything a trial needs besides (method, terrain, seed): MuJoCo options (``physics``),
+    the robot (``chain``), the protocol, the control laws (``drive``, ``stiffness``,
+    ``head_following``, ``follow``, ``waypoints``) and the waypoint source with our A* planner.
 
     Relations (checked by ``validate`` once every ``--set`` is applied): the soft stiffness is not
     above the stiff one and the latch releases below where it latches (the CWC law's hysteresis,
@@ -105,7 +83,7 @@ class MRSConfig:
     follow: FollowConfig = field(default_factory=FollowConfig)
     waypoints: WaypointConfig = field(default_factory=WaypointConfig)
     waypoint_source: str = param("released", choices=WAYPOINT_SOURCES,
-                                 doc="waypoints: the released CSV or our A* planner")
+                                 doc="waypoints: released (the benchmark's CSV) or planner (our A*)")
     planner: PlannerConfig = field(default_factory=PlannerConfig)
 
     def __post_init__(self) -> None:

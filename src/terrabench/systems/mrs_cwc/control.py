@@ -28,14 +28,11 @@ STIFFNESS_MODES = ("released", "eq12", "constant")
 
 @dataclass(frozen=True)
 class DriveConfig:
-    """Differential wheel-speed law shared by leaders and CWC/CS followers.
+    """Differential wheel-speed law shared by leaders and CWC/CS followers."""
 
-    Attributes:
-        wheel_speed: nominal wheel speed (rad/s); 1.5 rad/s x 0.05 m = 0.075 m/s.
-        turn_gain: differential gain on the heading error (rad/s per rad).
-    """
-
-    wheel_speed: float = param(1.5, ge=0, unit="rad/s", doc="nominal wheel speed (0: a chain that does not drive)")
+    wheel_speed: float = param(1.5, ge=0, unit="rad/s",
+                               doc="nominal wheel speed; 1.5 rad/s x 0.05 m = 0.075 m/s (0: a chain that does not "
+                                   "drive)")
     turn_gain: float = param(0.6, ge=0, unit="rad/s per rad", doc="differential gain on the heading error")
 
 
@@ -43,37 +40,24 @@ class DriveConfig:
 class StiffnessLawConfig:
     """The CWC yaw-stiffness law (spec section 4, paper eqs 10-12).
 
-    Attributes:
-        mode: ``"released"`` (latch + sign memory, what produced the tables), ``"eq12"`` (the
-            paper's idealised rule) or ``"constant"`` (K* = k_low always: the CS method).
-        k_low: soft stiffness (N m/rad).  k_high: stiff stiffness (N m/rad).
-        k_init: stiffness at t = 0 (N m/rad).
-        latch_on: |tau_env| above which "soft" latches on (N m).
-        latch_off: |tau_env| below which it releases (N m).
-        inertia: leader yaw inertia used in tau_env (kg m^2).
-        motor_gain: steering torque = motor_gain * (tau_R - tau_L).
-        sign_error_threshold: |0.5 e| at or above which the sign memory updates.
-        memory_rate: weight of a new sign in the memory (0.1).
-        ema: weight of K* in the first-order smoothing (0.03).
-        window: length of the moving average after it (5 values).
-
     The control period the law differentiates the yaw rate over is the protocol's
     (``protocol.control_period``), passed to :class:`StiffnessLaw`: one value in one place.
     """
 
     mode: str = param("released", choices=STIFFNESS_MODES,
-                      doc="CWC law: released (latch + sign memory), eq12, constant (CS)")
+                      doc="CWC law: released (latch + sign memory, what produced the tables), eq12 (the paper's "
+                          "idealised rule) or constant (K* = k_low always: the CS method)")
     k_low: float = param(5.0, gt=0, unit="N m/rad", doc="soft yaw stiffness")
     k_high: float = param(100.0, gt=0, unit="N m/rad", doc="stiff yaw stiffness")
     k_init: float = param(0.1, gt=0, unit="N m/rad", doc="stiffness at t = 0")
     latch_on: float = param(20.0, ge=0, unit="N m", doc="|tau_env| above which soft latches on")
     latch_off: float = param(1.0, ge=0, unit="N m", doc="|tau_env| below which soft releases")
     inertia: float = param(0.0042181, gt=0, unit="kg m^2", doc="leader yaw inertia used in tau_env")
-    motor_gain: float = param(1.2, ge=0, doc="steering torque per unit (tau_R - tau_L)")
+    motor_gain: float = param(1.2, ge=0, doc="steering torque = motor_gain * (tau_R - tau_L)")
     sign_error_threshold: float = param(0.6, ge=0, unit="rad", doc="|0.5 e| at or above which the sign memory updates")
     memory_rate: float = param(0.1, ge=0, le=1, doc="weight of a new sign in the memory")
     ema: float = param(0.03, gt=0, le=1, doc="weight of K* in the first-order smoothing")
-    window: int = param(5, ge=1, doc="length of the moving average after the smoothing")
+    window: int = param(5, ge=1, doc="number of values in the moving average after the smoothing")
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -141,14 +125,10 @@ class TargetDirection:
 
 @dataclass(frozen=True)
 class WaypointConfig:
-    """Waypoint following of the A* methods (spec section 4).
+    """Waypoint following of the A* methods (spec section 4)."""
 
-    Attributes:
-        reach_radius: advance when the leader is this close to the current waypoint (m).
-        patience: advance anyway after this long on one waypoint (s).
-    """
-
-    reach_radius: float = param(0.5, gt=0, unit="m", doc="advance when the leader is this close to the waypoint")
+    reach_radius: float = param(0.5, gt=0, unit="m",
+                                doc="advance when the leader is this close to the current waypoint")
     patience: float = param(90.0, gt=0, unit="s", doc="advance anyway after this long on one waypoint")
 
 
@@ -244,24 +224,16 @@ class CWCLaw:
 
 @dataclass(frozen=True)
 class HeadFollowingConfig:
-    """MJ (ACM-R4-like) head-following control (spec section 4).
+    """MJ (ACM-R4-like) head-following control (spec section 4)."""
 
-    Attributes:
-        follower_wheel_speed: constant wheel speed of units 2-6 (rad/s).
-        dead_band: |e| below which the head joint target is 0 (rad).
-        head_angle: head joint target magnitude outside the dead band (rad).
-        ema: smoothing weight of the head target.
-        delay_steps: control periods by which each joint repeats its predecessor's command.
-        compliance: torque-to-angle compliance (rad per N m).
-    """
-
-    follower_wheel_speed: float = param(math.pi / 2, gt=0, unit="rad/s", doc="constant wheel speed of the followers")
+    follower_wheel_speed: float = param(math.pi / 2, gt=0, unit="rad/s",
+                                        doc="constant wheel speed of the followers (units 2-6)")
     dead_band: float = param(math.radians(25.0), ge=0, le=math.pi, unit="rad",
                              doc="|e| below which the head joint target is 0")
     head_angle: float = param(math.radians(35.0), ge=0, le=math.pi, unit="rad",
                               doc="head joint target magnitude outside the dead band")
     ema: float = param(0.03, gt=0, le=1, doc="smoothing weight of the head target")
-    delay_steps: int = param(20, ge=1, doc="control periods by which each joint repeats its predecessor")
+    delay_steps: int = param(20, ge=1, doc="control periods by which each joint repeats its predecessor's command")
     compliance: float = param(0.01, ge=0, unit="rad/(N m)", doc="torque-to-angle compliance")
 
 
@@ -297,21 +269,15 @@ class HeadFollowing:
 
 @dataclass(frozen=True)
 class FollowConfig:
-    """D: follow the predecessor's position (spec section 4).
+    """D: follow the predecessor's position (spec section 4)."""
 
-    Attributes:
-        bearing_gain: gain on the bearing error before the differential term (spec: 10).
-        speed_gain: wheel speed per metre of excess distance (rad/s/m).
-        stop_distance: followers stop within this distance (m).
-        max_wheel_speed: cap on a follower's wheel-speed command (rad/s). The spec gives
-            none; without one, a follower that falls a few metres behind is commanded tens
-            of rad/s, races, and MuJoCo diverges (docs/assumptions.md).
-    """
-
-    bearing_gain: float = param(10.0, ge=0, doc="gain on the bearing error")
+    bearing_gain: float = param(10.0, ge=0, doc="gain on the bearing error before the differential term (spec: 10)")
     speed_gain: float = param(5.0, ge=0, unit="rad/s/m", doc="wheel speed per metre of excess distance")
     stop_distance: float = param(0.1, ge=0, unit="m", doc="followers stop within this distance")
-    max_wheel_speed: float = param(6.0, gt=0, unit="rad/s", doc="cap on a follower wheel-speed command")
+    max_wheel_speed: float = param(6.0, gt=0, unit="rad/s",
+                                   doc="cap on a follower's wheel-speed command; the spec gives none, and without one "
+                                       "a follower that falls a few metres behind is commanded tens of rad/s, races, "
+                                       "and MuJoCo diverges (docs/assumptions.md)")
 
 
 class FollowByPosition:

@@ -28,29 +28,18 @@ from terrabench.terrain import sine_sum
 
 @dataclass(frozen=True)
 class PlannerConfig:
-    """Cost terms of our A* (see module docstring).
+    """Cost terms of our A* (see module docstring)."""
 
-    Attributes:
-        cell: grid spacing (m); 0.1475 = 14.75 m / 100 like the released waypoints.
-        w_climb: weight of squared uphill slope.
-        w_descent: weight of squared downhill slope.
-        w_tip: weight of squared cross slope (tipping risk of a 0.12 m track).
-        max_slope_deg: steepest allowed slope along a move (deg).
-        max_cross_deg: steepest allowed cross slope (deg).
-        steep_penalty: extra cost per metre of a move beyond either limit.
-        simplify_tolerance: Douglas-Peucker tolerance for the waypoint list (m).
-        max_spacing: longest allowed distance between consecutive waypoints (m).
-    """
-
-    cell: float = param(0.1475, gt=0, unit="m", doc="planning grid spacing")
+    cell: float = param(0.1475, gt=0, unit="m",
+                        doc="planning grid spacing; 0.1475 = 14.75 m / 100, like the released waypoints")
     w_climb: float = param(4.0, ge=0, doc="weight of squared uphill slope")
     w_descent: float = param(1.0, ge=0, doc="weight of squared downhill slope")
-    w_tip: float = param(6.0, ge=0, doc="weight of squared cross slope")
+    w_tip: float = param(6.0, ge=0, doc="weight of squared cross slope (tipping risk of a 0.12 m track)")
     max_slope_deg: float = param(50.0, gt=0, le=90, unit="deg", doc="steepest allowed slope along a move")
     max_cross_deg: float = param(45.0, gt=0, le=90, unit="deg", doc="steepest allowed cross slope")
     steep_penalty: float = param(50.0, ge=0, doc="extra cost per metre of a move beyond either limit")
     simplify_tolerance: float = param(0.3, ge=0, unit="m", doc="Douglas-Peucker tolerance of the waypoint list")
-    max_spacing: float = param(2.5, gt=0, unit="m", doc="longest distance between consecutive waypoints")
+    max_spacing: float = param(2.5, gt=0, unit="m", doc="longest allowed distance between consecutive waypoints")
 
 
 def height_map(terrain, cell: float):

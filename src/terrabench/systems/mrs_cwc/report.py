@@ -18,12 +18,14 @@
 Only seed-0 rows enter the tables and figures (seed 0 is the released protocol exactly). A
 method whose seed-0 rows were run under more than one config appears once per config (a
 *variant*), labelled by the config keys that differ, so no table row mixes two configs.
+
+The variants and the Tables II/III lines are built in :mod:`.report_tables`, the A* waypoint
+section in :mod:`.report_astar`.
 """
 
 from __future__ import annotations
 
 import html
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -36,17 +38,22 @@ import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from terrabench.benchmark.trial import STATUSES, canonical_json  # noqa: E402
-from terrabench.config import to_dict  # noqa: E402
-from terrabench.planning.astar import polyline_deviation  # noqa: E402
+from terrabench.benchmark.trial import STATUSES  # noqa: E402
 from terrabench.report.page import Page, note, provenance_html, table_html  # noqa: E402
 from terrabench.report.terrain_plot import draw_terrain  # noqa: E402
 from terrabench.report.variants import Variant  # noqa: E402
-from terrabench.report.variants import find_variants as _find_variants  # noqa: E402
-from terrabench.systems.mrs_cwc.config import MRSConfig  # noqa: E402
-from terrabench.systems.mrs_cwc.methods import METHODS, config_for  # noqa: E402
-from terrabench.systems.mrs_cwc.planner import plan_waypoints  # noqa: E402
-from terrabench.systems.mrs_cwc.reference import METRIC_NAMES, TRIALS_PER_GROUP, paper_row  # noqa: E402
+from terrabench.systems.mrs_cwc.methods import METHODS  # noqa: E402
+from terrabench.systems.mrs_cwc.reference import paper_row  # noqa: E402
+from terrabench.systems.mrs_cwc.report_astar import _astar_section  # noqa: E402
+from terrabench.systems.mrs_cwc.report_tables import (  # noqa: E402
+    FAR_FROM_PAPER,
+    TABLE_COLUMNS,
+    _default_config,
+    _finite,
+    _table_html,
+    find_variants,
+    group_table,
+)
 from terrabench.systems.mrs_cwc.summary import seed_summary, summaries  # noqa: E402
 from terrabench.terrain import dataset  # noqa: E402
 
@@ -60,9 +67,6 @@ OUTPUTS = (
     "fig5_group_A.png", "fig6_group_B.png", "astar_paths.csv", "astar_paths_terrains.csv",
     "astar_paths.png", "astar_sources.csv", "statuses.csv",
 )
-#: Beyond this relative difference an NCR/NEF/NEC cell is highlighted against the paper's.
-FAR_FROM_PAPER = 0.2
-_SOURCE_NAMES = {"planner": "our planner", "released": "released waypoints"}
 #: Trial endings drawn as symbols in the outcome matrix (a timeout is colour only).
 _MARKERS = {
     "success": dict(marker="o", color="black", ms=3.5, ls=""),
@@ -260,101 +264,6 @@ def _strip(page: Page, system: Any, rows: list[dict[str, Any]], seconds: float =
                    "(<code>terrabench render</code> makes a clip).", system, spec, times, overlay=overlay)
 
 
-# ------------------------------------------------------------------ variants and tables
-def find_variants(rows: list[dict[str, Any]]) -> list[Variant]:
-    """The (method, settings) variants of ``rows`` (:func:`terrabench.report.variants.find_variants`):
-    methods in :data:`METHODS` order (unknown ones last), within a method the default config first,
-    then the one with the most trials; labels name the waypoint source first."""
-    return _find_variants(rows, default_config=_default_config, order=list(METHODS),
-                          label=lambda m: METHODS[m].label if m in METHODS else m, describe=_describe_setting,
-                          key_order=lambda k: (k != "waypoint_source", k))
-
-
-def _default_config(mid: str, instance: str = "") -> dict[str, Any] | None:
-    """The config this version plans for ``mid`` with no overrides (None for unknown methods);
-    the same on every terrain."""
-    if mid not in METHODS:
-        return None
-    return json.loads(canonical_json(config_for(METHODS[mid], to_dict(MRSConfig()))))
-
-
-def _describe_setting(key: str, value: Any) -> str:
-    return _SOURCE_NAMES.get(value, str(value)) if key == "waypoint_source" else f"{key}={value}"
-
-
-TABLE_COLUMNS = (
-    "group", "method", "label", "config_hash", "n", "n_paper",
-    "NSR", "NSR_lo", "NSR_hi", "NSR_paper",
-    "NCR", "n_NCR", "NCR_paper", "NEF", "n_NEF", "NEF_paper", "NEC", "n_NEC", "NEC_paper",
-    "NEC_pooled", "diverged", "error",
-)
-
-
-def group_table(variants: list[Variant], summ: dict, group: str) -> list[dict[str, Any]]:
-    """One line per variant with trials in ``group``: ours beside the paper's (NSR, NCR in %)."""
-    lines = []
-    for v in variants:
-        s = summ.get((v.id, group))
-        if s is None:
-            continue
-        paper = paper_row(group, v.method) or {}
-        line: dict[str, Any] = {
-            "group": group, "method": v.method, "label": v.label, "config_hash": v.config_hash,
-            "n": s["n"], "n_paper": TRIALS_PER_GROUP if paper else None,
-            "NSR": s["NSR"], "NSR_lo": s["NSR_lo"], "NSR_hi": s["NSR_hi"], "NSR_paper": paper.get("NSR"),
-            "NEC_pooled": s["NEC_pooled"], "diverged": s["diverged"], "error": s["errors"],
-        }
-        for name in METRIC_NAMES[1:]:
-            line[name], line[f"n_{name}"], line[f"{name}_paper"] = s[name], s[f"n_{name}"], paper.get(name)
-        lines.append(line)
-    return lines
-
-
-def _far(line: dict[str, Any], name: str) -> bool:
-    """Whether our cell is far from the paper's (see :data:`FAR_FROM_PAPER`)."""
-    ours, paper = line[name], line[f"{name}_paper"]
-    if paper is None or not _finite(ours):
-        return False
-    if name == "NSR":
-        return not line["NSR_lo"] <= paper <= line["NSR_hi"]
-    return abs(ours - paper) > FAR_FROM_PAPER * abs(paper)
-
-
-_UNITS = ("%", "%", "", "J/m")  # of METRIC_NAMES
-
-
-def _table_html(lines: list[dict[str, Any]]) -> str:
-    head = ("<tr><th rowspan=2>method</th><th rowspan=2>config</th><th rowspan=2><i>n</i></th>"
-            + "".join(f"<th colspan={3 if m == 'NSR' else 2}>{m} {u}</th>" for m, u in zip(METRIC_NAMES, _UNITS))
-            + "<th rowspan=2>diverged</th><th rowspan=2>error</th></tr><tr>"
-            + "<th>ours</th><th>paper</th><th>95 % CI</th>" + "<th>ours</th><th>paper</th>" * 3 + "</tr>")
-    body = []
-    for ln in lines:
-        tds = [html.escape(ln["label"]), f"<a href='#cfg-{ln['config_hash']}'><code>{ln['config_hash'][:8]}</code></a>",
-               str(ln["n"])]
-        for name in METRIC_NAMES:
-            count = ln.get(f"n_{name}", ln["n"])
-            small = f" <small>({count})</small>" if count != ln["n"] else ""
-            cls = " class=far" if _far(ln, name) else ""
-            tds.append(f"<span{cls}>{_fmt(name, ln[name])}</span>{small}")
-            tds.append(_fmt(name, ln[f"{name}_paper"]))
-            if name == "NSR":
-                tds.append(f"{ln['NSR_lo']:.0f}-{ln['NSR_hi']:.0f}")
-        tds += [str(ln["diverged"]), str(ln["error"])]
-        body.append("<tr>" + "".join(f"<td>{t}</td>" for t in tds) + "</tr>")
-    return f"<table>{head}{''.join(body)}</table>"
-
-
-def _fmt(name: str, v: Any) -> str:
-    if not _finite(v):
-        return "-"
-    return f"{v:.3f}" if name == "NEF" else f"{v:.1f}"
-
-
-def _finite(v: Any) -> bool:
-    return isinstance(v, (int, float)) and math.isfinite(v)
-
-
 # ------------------------------------------------------------------ outcome matrix
 OUTCOME_COLUMNS = ("terrain", "group", "method", "label", "config_hash", "status", "NCR_pct", "d_min", "sim_time",
                    "key")
@@ -471,124 +380,6 @@ def path_figure(store, variants: list[Variant], cells: dict, terrain):
     ax_t.set_ylabel("|tau_env| (N m)")
     ax_t.set_xlabel("t (s)")
     return fig
-
-
-# ------------------------------------------------------------------ A* waypoints
-ASTAR_TERRAIN_COLUMNS = ("terrain", "group", "deviation", "ours_to_released", "released_to_ours",
-                         "n_ours", "n_released", "length_ours", "length_released")
-ASTAR_GROUP_COLUMNS = ("group", "terrains", "mean", "median", "max", "max_terrain")
-SOURCE_COLUMNS = ("group", "method", "waypoint_source", "label", "config_hash", "terrains", "NSR", "NCR",
-                  "diverged", "error")
-
-
-def astar_comparison(cfg: MRSConfig) -> tuple[list[dict[str, Any]], dict[str, tuple[np.ndarray, np.ndarray]]]:
-    """Our planner's waypoints vs the released ones on all 100 terrains.
-
-    Args:
-        cfg: the config whose ``planner``, ``protocol.start_xy`` and ``protocol.target_xy`` are used.
-
-    Returns:
-        Per-terrain lines (deviations in m: the mean distance from points along one polyline
-        to the other, each way, and their average) and ``{terrain id: (ours (n, 2), released
-        (m, 2))}`` waypoint arrays (m).
-    """
-    lines, waypoints = [], {}
-    for t in dataset.select(group="all"):
-        ours, released = plan_waypoints(t, cfg), dataset.released_waypoints(t.id)
-        a, b = polyline_deviation(ours, released), polyline_deviation(released, ours)
-        lines.append({"terrain": t.id, "group": t.group, "deviation": 0.5 * (a + b), "ours_to_released": a,
-                      "released_to_ours": b, "n_ours": len(ours), "n_released": len(released),
-                      "length_ours": _length(ours), "length_released": _length(released)})
-        waypoints[t.id] = (ours, released)
-    return lines, waypoints
-
-
-def _length(poly: np.ndarray) -> float:
-    return float(np.hypot(*np.diff(poly, axis=0).T).sum())
-
-
-def astar_group_lines(lines: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Mean, median and max deviation (m) per group."""
-    out = []
-    for group in dataset.GROUPS:
-        g = [ln for ln in lines if ln["group"] == group]
-        d = np.array([ln["deviation"] for ln in g])
-        worst = g[int(np.argmax(d))]
-        out.append({"group": group, "terrains": len(g), "mean": float(d.mean()), "median": float(np.median(d)),
-                    "max": float(d.max()), "max_terrain": worst["terrain"]})
-    return out
-
-
-def astar_figure(lines: list[dict[str, Any]], waypoints: dict[str, tuple[np.ndarray, np.ndarray]]):
-    """Per group the terrains of median and largest deviation: both waypoint polylines."""
-    shown = []
-    for group in dataset.GROUPS:
-        g = sorted((ln for ln in lines if ln["group"] == group), key=lambda ln: ln["deviation"])
-        shown += [(g[len(g) // 2], "median"), (g[-1], "largest")]
-    fig, axes = plt.subplots(2, 2, figsize=(13, 11))
-    for ax, (ln, which) in zip(axes.flat, shown):
-        ours, released = waypoints[ln["terrain"]]
-        draw_terrain(ax, dataset.get(ln["terrain"]), {"released waypoints": released.T, "our A* waypoints": ours.T})
-        for line in ax.lines[-2:]:  # the two polylines just drawn: mark their waypoints
-            line.set_marker("o")
-            line.set_markersize(3)
-        ax.set_title(f"{ax.get_title()}\n{which} deviation in group {ln['group']}: {ln['deviation']:.2f} m", fontsize=9)
-    fig.tight_layout()
-    return fig
-
-
-def source_lines(tagged: list[dict[str, Any]], variants: list[Variant]) -> list[dict[str, Any]]:
-    """A* methods stored with both waypoint sources: each variant's outcome on the terrains
-    that both sources ran (per group), so the two are compared trial for trial."""
-    source = {v.id: v.config.get("waypoint_source") for v in variants}
-    out = []
-    for mid in [m for m in METHODS if METHODS[m].guidance == "astar"]:
-        vs = [v for v in variants if v.method == mid]
-        sources = {source[v.id] for v in vs}
-        if len(sources) < 2:
-            continue
-        ids = {v.id for v in vs}
-        mine = [r for r in tagged if r["method"] in ids]
-        for group in dataset.GROUPS:
-            ran = [{r["instance"] for r in mine if r["instance"][0] == group and source[r["method"]] == s}
-                   for s in sources]
-            common = set.intersection(*ran)
-            if not common:
-                continue
-            summ = summaries([r for r in mine if r["instance"] in common])
-            for v in vs:
-                s = summ.get((v.id, group))
-                if s is not None:
-                    out.append({"group": group, "method": mid, "waypoint_source": source[v.id], "label": v.label,
-                                "config_hash": v.config_hash, "terrains": s["n"], "NSR": s["NSR"],
-                                "NCR": s["NCR"], "diverged": s["diverged"], "error": s["errors"]})
-    return out
-
-
-def _astar_section(page: "Page", tagged: list[dict[str, Any]], variants: list[Variant]) -> None:
-    """Deviation tables and figure; the outcomes by waypoint source when both were run."""
-    cfg = MRSConfig()
-    lines, waypoints = astar_comparison(cfg)
-    groups = astar_group_lines(lines)
-    page.csv("astar_paths_terrains.csv", lines, ASTAR_TERRAIN_COLUMNS)
-    page.csv("astar_paths.csv", groups, ASTAR_GROUP_COLUMNS)
-    page.p("Our A* (<code>planner.plan_waypoints</code> with the default planner config of this terrabench "
-           "version) against the waypoints the released A* variants follow. Deviation: mean distance (m) from "
-           "points sampled along one polyline to the other, averaged over both directions. Computed from the "
-           "shipped terrain data, not from stored trials.")
-    page.raw(table_html(groups, ASTAR_GROUP_COLUMNS)
-             + " <a href='astar_paths.csv'>astar_paths.csv</a>, per terrain: "
-             "<a href='astar_paths_terrains.csv'>astar_paths_terrains.csv</a>")
-    planner_json = html.escape(json.dumps(to_dict(cfg.planner), indent=2))
-    page.raw(f"<details><summary>planner config used</summary><pre>{planner_json}"
-             "</pre></details>")
-    page.figure(astar_figure(lines, waypoints), "astar_paths.png",
-                "Waypoints on the height map: per group the terrain of median and of largest deviation.")
-    src = source_lines(tagged, variants)
-    if src:
-        page.csv("astar_sources.csv", src, SOURCE_COLUMNS)
-        page.p("Stored A* runs with both waypoint sources, on the terrains both ran:")
-        page.raw(table_html(src, SOURCE_COLUMNS) + " <a href='astar_sources.csv'>astar_sources.csv</a>")
 
 
 # ------------------------------------------------------------------ statuses

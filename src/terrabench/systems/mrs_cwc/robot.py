@@ -34,69 +34,7 @@ ROBOT_BIT = 2  # robot bodies collide with each other and the ground; wheels onl
 
 @dataclass(frozen=True)
 class ChainConfig:
-    """Dimensions and masses of the chain (spec section 3; paper Fig. 2).
-
-    Attributes:
-        n_units: number of units.
-        spacing: distance between consecutive unit centres (m).
-        joint_offset: joint point behind each unit centre (m).
-        body_radius: capsule radius (m).
-        body_length: capsule length, end to end (m).
-        body_mass: body mass (kg).
-        com_drop: centre of mass below the capsule centre (m).
-        body_inertia_per_kg: principal inertia / mass about (longitudinal, lateral, vertical) (m^2).
-        wheel_radius: (m).  wheel_width: (m).  wheel_mass: each (kg).
-        wheel_shape: collision shape of the wheels against the ground: ``"cylinder"`` (the
-            released model, default) or ``"sphere"`` of the wheel radius (cheaper narrow phase
-            against the height field, ~1.14x, but it changes group-B outcomes materially:
-            docs/mrs-cwc-findings.md, "Wheel geometry"). The wheel's mass and inertia stay the
-            cylinder's in both.
-        track_half: lateral offset of each wheel (m).  axle_drop: axle below body centre (m).
-        wheel_friction: effective wheel-ground friction (Bullet multiplies the pair's 1.0 and 2.0).
-        wheel_kv: velocity-servo gain of the wheel motors (N m s/rad); 100/1.5 makes the
-            stall torque at the nominal 1.5 rad/s equal to the 100 N m limit.
-        wheel_torque_limit: (N m); enforced by the trial loop on the commanded speed error
-            (a hard clamp inside MuJoCo turns the 0.002 kg m^2 wheels into a bang-bang
-            oscillator: 100 N m x 5 ms / 0.002 kg m^2 = 250 rad/s per step).
-        wheel_drive: ``"servo"`` (default): a MuJoCo velocity actuator ``tau = wheel_kv (w_cmd -
-            w)`` with the limit applied by the loop. ``"constraint"``: Bullet's motor, a velocity
-            constraint solved with the contacts that holds ``w = w_cmd`` with any torque up to
-            ``wheel_torque_limit`` and slips at that torque beyond it. Realised as a fixed tendon
-            ``q_wheel + q_ref`` with frictionloss ``wheel_torque_limit``, where ``q_ref`` is a
-            massless-to-the-chain reference hinge in the world (armature ``drive_ref_armature``)
-            whose speed the trial sets to ``-w_cmd`` every control period; the wheel torque is
-            the tendon's constraint force (``qfrc_constraint`` of the reference dof).
-            docs/mrs-cwc-findings.md, "Calibration against the released logs".
-        drive_solref, drive_solimp: softness of that velocity constraint. The creep under a
-            load torque T on a free wheel is about T (1-d)/d / (I_w b), with b = 2/(d timeconst):
-            d = 0.9999 and timeconst 0.01 s (2 physics steps, MuJoCo's stiffest safe value)
-            give ~0.0003 rad/s per N m, i.e. a servo of ~4000 N m s/rad, solved implicitly.
-        drive_ref_armature: inertia of each reference hinge (kg m^2); 100 N m for a control
-            period moves it by 100 x 0.025 / 1e4 = 2.5e-4 rad/s.
-        wheel_solref, wheel_solimp: the wheel-ground contact's softness (MuJoCo's defaults). A soft
-            contact lets a wheel creep tangentially at a speed proportional to its friction force;
-            Bullet's static friction does not creep.
-        noslip_iterations: MuJoCo's noslip post-solver iterations for this scene (0 = off): it
-            removes the creep of all friction rows (contacts and the drive tendons), making
-            static friction hard as in Bullet's sequential-impulse solver.
-        bumper_radius, bumper_thickness, bumper_mass, bumper_ahead, bumper_up: the leader's disc.
-        bumper_touches_ground: whether the bumper collides with the terrain (default, the
-            released scene) or only with the other units: a diagnostic switch for the study of
-            leaders that rest on their bumper with their wheels in the air
-            (benchmarks/leader_contact_study.py, docs/mrs-cwc-findings.md).
-        link_mass_spring: each of the two link masses of the spring variant (kg).
-        link_mass_motor: the link mass of the motor variant (kg).
-        k_pitch: pitch spring (N m/rad).  k_roll: roll spring (N m/rad).
-        k_yaw_init: yaw stiffness at t = 0 (N m/rad).
-        link_damping: viscous damping of every link hinge (N m s/rad). The released scenes
-            say 0, but Bullet's constraint solver dissipates; with exactly 0 in MuJoCo a chain
-            tumbling in free flight after the drop gains energy until it blows up
-            (docs/assumptions.md). 0.5 gives the K = 5 yaw mode a damping ratio below 0.2.
-        yaw_kp: position gain of the MJ yaw servo (N m/rad). Torque is unlimited, but the
-            gain must stay below 100 N m/rad: the compliance term (command - tau/100) closes a
-            loop of gain yaw_kp/100 at the control rate, which oscillates above 1.
-        yaw_kv: damping of the MJ yaw servo (N m s/rad).
-    """
+    """Dimensions, masses, drives and contacts of the chain (spec section 3; paper Fig. 2)."""
 
     n_units: int = param(6, ge=1, doc="number of units (1: a leader alone)")
     spacing: float = param(0.30, gt=0, unit="m", doc="distance between consecutive unit centres")
@@ -106,42 +44,87 @@ class ChainConfig:
     body_mass: float = param(3.374, gt=0, unit="kg", doc="body mass of one unit")
     com_drop: float = param(0.10, ge=0, unit="m", doc="centre of mass below the capsule centre")
     body_inertia_per_kg: tuple[float, float, float] = param((0.00125, 0.003177, 0.003177), length=3, gt=0, unit="m^2",
-                                                            doc="principal inertia / mass (long., lat., vert.)")
+                                                            doc="principal inertia / mass about (longitudinal, "
+                                                                "lateral, vertical)")
     wheel_radius: float = param(0.05, gt=0, unit="m", doc="wheel radius")
     wheel_width: float = param(0.02, gt=0, unit="m", doc="wheel width")
     wheel_mass: float = param(1.57, gt=0, unit="kg", doc="mass of each wheel")
-    wheel_shape: str = param("cylinder", choices=WHEEL_SHAPES, doc="wheel collision shape against the ground")
+    wheel_shape: str = param("cylinder", choices=WHEEL_SHAPES,
+                             doc="collision shape of the wheels against the ground: cylinder (the released model) or "
+                                 "sphere of the wheel radius (cheaper narrow phase against the height field, ~1.14x, "
+                                 "but it changes group-B outcomes materially: docs/mrs-cwc-findings.md, 'Wheel "
+                                 "geometry'); the wheel's mass and inertia stay the cylinder's in both")
     track_half: float = param(0.06, gt=0, unit="m", doc="lateral offset of each wheel")
     axle_drop: float = param(0.025, ge=0, unit="m", doc="axle below the body centre")
-    wheel_friction: float = param(2.0, ge=0, doc="wheel-ground friction coefficient")
-    wheel_kv: float = param(100.0 / 1.5, gt=0, unit="N m s/rad", doc="velocity-servo gain of the wheel motors")
-    wheel_torque_limit: float = param(100.0, gt=0, unit="N m", doc="wheel motor torque limit")
+    wheel_friction: float = param(2.0, ge=0,
+                                  doc="effective wheel-ground friction coefficient (Bullet multiplies the pair's 1.0 "
+                                      "and 2.0)")
+    wheel_kv: float = param(100.0 / 1.5, gt=0, unit="N m s/rad",
+                            doc="velocity-servo gain of the wheel motors; 100/1.5 makes the stall torque at the "
+                                "nominal 1.5 rad/s equal to the 100 N m limit")
+    wheel_torque_limit: float = param(100.0, gt=0, unit="N m",
+                                      doc="wheel motor torque limit; the servo drive enforces it in the trial loop on "
+                                          "the commanded speed error (a hard clamp inside MuJoCo turns the 0.002 kg "
+                                          "m^2 wheels into a bang-bang oscillator: 100 N m x 5 ms / 0.002 kg m^2 = "
+                                          "250 rad/s per step)")
     wheel_drive: str = param("servo", choices=WHEEL_DRIVES,
-                             doc="wheel motor model: velocity servo or Bullet-like velocity constraint")
+                             doc="wheel motor model: servo, a MuJoCo velocity actuator tau = wheel_kv (w_cmd - w) "
+                                 "with the limit applied by the loop; or constraint, Bullet's motor: a velocity "
+                                 "constraint solved with the contacts that holds w = w_cmd with any torque up to "
+                                 "wheel_torque_limit and slips beyond it (a fixed tendon q_wheel + q_ref with "
+                                 "frictionloss wheel_torque_limit, q_ref a world reference hinge of armature "
+                                 "drive_ref_armature whose speed the trial sets to -w_cmd every control period; the "
+                                 "wheel torque is the reference dof's qfrc_constraint; docs/mrs-cwc-findings.md, "
+                                 "'Calibration against the released logs')")
     drive_solref: tuple[float, float] = param((0.01, 1.0), length=2, gt=0,
-                                              doc="MuJoCo solref (timeconst s, dampratio) of the drive constraint")
+                                              doc="MuJoCo solref (timeconst s, dampratio) of the constraint drive: "
+                                                  "the creep under a load torque T on a free wheel is about T (1-d)/d "
+                                                  "/ (I_w b), b = 2/(d timeconst); timeconst 0.01 s is 2 physics "
+                                                  "steps, MuJoCo's stiffest safe value")
     drive_solimp: tuple[float, float, float, float, float] = param((0.9999, 0.9999, 0.001, 0.5, 2.0), length=5, gt=0,
-                                                                   doc="MuJoCo solimp of the drive constraint")
-    drive_ref_armature: float = param(1e4, gt=0, unit="kg m^2", doc="inertia of each drive reference hinge")
+                                                                   doc="MuJoCo solimp of the constraint drive: d = "
+                                                                       "0.9999 with solref's 0.01 s gives ~0.0003 "
+                                                                       "rad/s per N m of creep, a servo of ~4000 N m "
+                                                                       "s/rad solved implicitly")
+    drive_ref_armature: float = param(1e4, gt=0, unit="kg m^2",
+                                      doc="inertia of each drive reference hinge (constraint drive); 100 N m for a "
+                                          "control period moves it by 100 x 0.025 / 1e4 = 2.5e-4 rad/s")
     wheel_solref: tuple[float, float] = param((0.02, 1.0), length=2, gt=0,
-                                              doc="MuJoCo solref (timeconst s, dampratio) of the wheel-ground contact")
+                                              doc="MuJoCo solref (timeconst s, dampratio) of the wheel-ground contact "
+                                                  "(MuJoCo's default): a soft contact lets a wheel creep tangentially "
+                                                  "at a speed proportional to its friction force; Bullet's static "
+                                                  "friction does not creep")
     wheel_solimp: tuple[float, float, float, float, float] = param((0.9, 0.95, 0.001, 0.5, 2.0), length=5, gt=0,
-                                                                   doc="MuJoCo solimp of the wheel-ground contact")
-    noslip_iterations: int = param(0, ge=0, doc="MuJoCo noslip post-solver iterations (0 = off)")
+                                                                   doc="MuJoCo solimp of the wheel-ground contact "
+                                                                       "(MuJoCo's default)")
+    noslip_iterations: int = param(0, ge=0,
+                                   doc="MuJoCo noslip post-solver iterations for this scene (0 = off): it removes the "
+                                       "creep of all friction rows (contacts and drive tendons), making static "
+                                       "friction hard as in Bullet's sequential-impulse solver")
     bumper_radius: float = param(0.09, gt=0, unit="m", doc="leader bumper disc radius")
     bumper_thickness: float = param(0.02, gt=0, unit="m", doc="leader bumper disc thickness")
     bumper_mass: float = param(2.8, gt=0, unit="kg", doc="leader bumper mass")
     bumper_ahead: float = param(0.12, ge=0, unit="m", doc="bumper centre ahead of the leader centre")
     bumper_up: float = param(0.05, ge=0, unit="m", doc="bumper centre above the leader centre")
-    bumper_touches_ground: bool = param(True, doc="whether the bumper collides with the terrain")
+    bumper_touches_ground: bool = param(True,
+                                        doc="whether the bumper collides with the terrain (the released scene) or "
+                                            "only with the other units: a diagnostic switch for leaders that rest on "
+                                            "their bumper with their wheels in the air "
+                                            "(benchmarks/leader_contact_study.py, docs/mrs-cwc-findings.md)")
     link_mass_spring: float = param(0.4, gt=0, unit="kg", doc="each of the two link masses of the spring variant")
     link_mass_motor: float = param(1.3, gt=0, unit="kg", doc="link mass of the motor variant")
     k_pitch: float = param(15.0, gt=0, unit="N m/rad", doc="pitch spring stiffness")
     k_roll: float = param(30.0, gt=0, unit="N m/rad", doc="roll spring stiffness")
     k_yaw_init: float = param(0.1, gt=0, unit="N m/rad", doc="yaw stiffness at t = 0")
-    link_damping: float = param(0.5, ge=0, unit="N m s/rad", doc="viscous damping of every link hinge")
+    link_damping: float = param(0.5, ge=0, unit="N m s/rad",
+                                doc="viscous damping of every link hinge; the released scenes say 0, but Bullet's "
+                                    "constraint solver dissipates, and with exactly 0 a chain tumbling in free flight "
+                                    "after the drop gains energy until it blows up (docs/assumptions.md); 0.5 gives "
+                                    "the K = 5 yaw mode a damping ratio below 0.2")
     yaw_kp: float = param(50.0, gt=0, lt=100, unit="N m/rad",
-                          doc="MJ yaw servo position gain (>= 100 oscillates: see docstring)")
+                          doc="MJ yaw servo position gain; torque is unlimited, but the compliance term "
+                              "(command - tau/100) closes a loop of gain yaw_kp/100 at the control rate, which "
+                              "oscillates at 100 and above")
     yaw_kv: float = param(5.0, ge=0, unit="N m s/rad", doc="MJ yaw servo damping")
 
     def __post_init__(self) -> None:

@@ -16,22 +16,6 @@ from terrabench.systems.octopus.robot import RobotConfig
 class SceneConfig:
     """Terrain pieces and the start.
 
-    Attributes:
-        step_height: height of the ``step-400`` instance's step (m); ``--set scene.step_height``.
-        max_step_height: the largest step any instance may have (m): the arms reach about this.
-        terrace_heights: rises of the two-terrace step (m) (400 mm in total).
-        terrace_tread: depth of the lower terrace (m).
-        side_yaw_deg: approach angle of ``terrace2-side`` to the edges' normal (deg).
-        block_height, block_length, block_width: the rough-road block (m).
-        block_gap: gap between the robot's right side and the block (m), from the outermost contact
-            surface: the right flipper pulley capsule's end, pulley_r beyond the flipper's side face
-            (the paper: "10 mm beside the robot"; measured from the side face the pulley overlapped
-            the block by 8 cm and caught its corner).
-        start_distance: chassis centre behind the first edge at the start (m).
-        jitter_offset: seeds > 0 shift the start sideways by up to this (m).
-        jitter_yaw_deg: seeds > 0 turn the start by up to this (deg).
-        friction: ground friction.
-
     Relation: ``step_height <= max_step_height`` (the largest step the arms reach).
     """
 
@@ -40,9 +24,11 @@ class SceneConfig:
     )
 
     step_height: float = param(0.4, gt=0, unit="m", doc="height of the step-400 instance's step (<= max_step_height)")
-    max_step_height: float = param(0.6, gt=0, unit="m", doc="the largest step any instance may have")
+    max_step_height: float = param(0.6, gt=0, unit="m",
+                                   doc="the largest step any instance may have: the arms reach about this")
     terrace_heights: tuple[float, float] = param((0.2, 0.2), length=2, gt=0, unit="m",
-                                                 doc="rises of the two-terrace step")
+                                                 doc="rises of the two-terrace step (lower, upper); 400 mm in total "
+                                                     "by default")
     terrace_tread: float = param(0.45, gt=0, unit="m", doc="depth of the lower terrace")
     side_yaw_deg: float = param(25.0, ge=-90, le=90, unit="deg",
                                 doc="approach angle of terrace2-side to the edges' normal")
@@ -50,7 +36,10 @@ class SceneConfig:
     block_length: float = param(0.6, gt=0, unit="m", doc="rough-road block length")
     block_width: float = param(0.5, gt=0, unit="m", doc="rough-road block width")
     block_gap: float = param(0.01, ge=0, unit="m",
-                             doc="gap between the robot's outermost contact surface (right flipper pulley) and block")
+                             doc="gap between the robot's right side and the block, from the outermost contact "
+                                 "surface: the right flipper pulley capsule's end, pulley_r beyond the flipper's side "
+                                 "face (the paper: '10 mm beside the robot'; measured from the side face the pulley "
+                                 "overlapped the block by 8 cm and caught its corner)")
     start_distance: float = param(1.0, gt=0, unit="m", doc="chassis centre behind the first edge at the start")
     jitter_offset: float = param(0.03, ge=0, unit="m", doc="seeds > 0 shift the start sideways by up to this")
     jitter_yaw_deg: float = param(3.0, ge=0, le=180, unit="deg", doc="seeds > 0 turn the start by up to this")
@@ -62,32 +51,20 @@ class SceneConfig:
 
 @dataclass(frozen=True)
 class ProtocolConfig:
-    """Success, failure and the clock.
+    """Success, failure and the clock."""
 
-    Attributes:
-        control_period: controller period (s) [P: 50 Hz].
-        timeout: simulated time limit (s). The paper gives none (and calls CLM slow); 90 s: CLM walks at
-            0.054 m/s (arms placed in 7.4 s), the block task needs 2.2 m of travel (>= 48 s) plus the
-            ride-over, a two-terrace task two climbs (~8 s each) and two walks; at 60 s those tasks
-            were cut off while still progressing (terraces 1/5 and 1/5, block 0/5 at 1.0-1.2 m).
-        log_period: stored series period (s).
-        check_period: slow check / divergence test period (s).
-        turn_over: |roll| or |pitch| beyond this is ``turned_over`` (rad).
-        stuck_time: no progress of ``stuck_progress`` for this long is ``stuck`` (s).
-        stuck_progress: progress that counts (m).
-        success_past: the COG this far past the (last) edge on top (m).
-        success_tilt: |roll| and |pitch| below this count as stable (rad).
-        success_hold: held on top and stable this long (s).
-        block_past: block task: the COG this far past the block's far end (m).
-    """
-
-    control_period: float = param(0.02, gt=0, unit="s", doc="controller period")
-    timeout: float = param(90.0, gt=0, unit="s", doc="simulated time limit")
+    control_period: float = param(0.02, gt=0, unit="s", doc="controller period [P: 50 Hz]")
+    timeout: float = param(90.0, gt=0, unit="s",
+                           doc="simulated time limit; the paper gives none (and calls CLM slow); 90 s: CLM walks at "
+                               "0.054 m/s (arms placed in 7.4 s), the block task needs 2.2 m of travel (>= 48 s) plus "
+                               "the ride-over, a two-terrace task two climbs (~8 s each) and two walks; at 60 s those "
+                               "tasks were cut off while still progressing (terraces 1/5 and 1/5, block 0/5 at "
+                               "1.0-1.2 m)")
     log_period: float = param(0.1, gt=0, unit="s", doc="stored series period")
     check_period: float = param(0.5, gt=0, unit="s", doc="slow check / divergence test period")
     turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")
-    stuck_time: float = param(20.0, gt=0, unit="s", doc="no progress for this long is stuck")
-    stuck_progress: float = param(0.03, gt=0, unit="m", doc="progress that counts")
+    stuck_time: float = param(20.0, gt=0, unit="s", doc="no progress of stuck_progress for this long is stuck")
+    stuck_progress: float = param(0.03, gt=0, unit="m", doc="progress that counts (see stuck_time)")
     success_past: float = param(0.35, ge=0, unit="m", doc="the COG this far past the (last) edge on top")
     success_tilt: float = param(0.2, gt=0, le=math.pi, unit="rad", doc="|roll| and |pitch| below this count as stable")
     success_hold: float = param(1.0, ge=0, unit="s", doc="held on top and stable this long")

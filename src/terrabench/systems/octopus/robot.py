@@ -93,37 +93,7 @@ class Names:
 
 @dataclass(frozen=True)
 class RobotConfig:
-    """Dimensions (m), masses (kg), limits (rad, N m) and servo gains of the robot.
-
-    Attributes:
-        pulley_x: main-track pulley centres at +-pulley_x (m).
-        pulley_r: main-track pulley radius (m).
-        track_y: main-track centre line at +-track_y (m); track_w its width (m).
-        chassis_half: chassis box half sizes (m); chassis_z its centre above the pulley axis (m).
-        chassis_mass: kg (the paper: weight concentrated low in the chassis).
-        flipper_len: pivot to tip pulley (m) [P: 250 mm]; flipper_tip_r tip pulley radius (m).
-        flipper_y: flipper centre line at +-flipper_y (m); flipper_w width (m); flipper_mass kg.
-        flipper_range: joint range (rad); the upper end is the paper's 85 deg limit.
-        flipper_torque: actuator torque limit (N m); flipper_kp position gain (N m/rad).
-        arm_mount: arm base at (+-x, +-y, z) in the chassis frame (m) (the paper's m/2, n/2).
-        l1, l2: boom and forearm lengths (m), at most 1.5 m each: the compiled robot
-            weighs 94 kg, so one of four supporting arms carries about 230 N, which the boom's
-            default 300 N m holds at no more than 1.3 m of lever; d3 lateral offset of the forearm (m).
-        link_r: link capsule radius (m); tip_r tip sphere radius (m).
-        link_mass: (boom, forearm, tip) masses (kg).
-        swing_range, boom_range, elbow_range: joint ranges (rad) in our convention.
-        arm_torque: (swing, boom, elbow) torque limits (N m); arm_kp position gains (N m/rad).
-        arm_damping: joint damping of the arm joints (N m s/rad); roller_damping of the rollers.
-        friction: sliding friction of the robot's geoms (tracks, tips).
-        link_friction: sliding friction of the arm links; MuJoCo takes the larger friction of a
-            pair, so the links get priority 1 and their pairs use this value.
-        tip_solref: contact (timeconst, dampratio) of the arm tips (priority 1): stiffer than the
-            default (0.02, 1) so a pressed tip sinks millimetres, not centimetres.
-        joint_speed: joint speed limits (rad/s): servo commands move at most this fast and the
-            servos' velocity gain kv = torque limit / speed limit saturates at it.
-        track_power: drive power limit of each side (W): the crawler speed is cut so that the
-            sampled traction force times the speed stays below it.
-    """
+    """Dimensions (m), masses (kg), limits (rad, N m) and servo gains of the robot."""
 
     pulley_x: float = param(0.2, gt=0, unit="m", doc="main-track pulley centres at +-pulley_x")
     pulley_r: float = param(0.09, gt=0, unit="m", doc="main-track pulley radius")
@@ -132,21 +102,24 @@ class RobotConfig:
     chassis_half: tuple[float, float, float] = param((0.25, 0.17, 0.09), length=3, gt=0, unit="m",
                                                      doc="chassis box half sizes")
     chassis_z: float = param(0.06, ge=0, unit="m", doc="chassis centre above the pulley axis")
-    chassis_mass: float = param(56.0, gt=0, unit="kg", doc="chassis mass")
-    flipper_len: float = param(0.25, gt=0, unit="m", doc="flipper pivot to tip pulley")
+    chassis_mass: float = param(56.0, gt=0, unit="kg",
+                                doc="chassis mass (the paper: weight concentrated low in the chassis)")
+    flipper_len: float = param(0.25, gt=0, unit="m", doc="flipper pivot to tip pulley [P: 250 mm]")
     flipper_tip_r: float = param(0.05, gt=0, unit="m", doc="flipper tip pulley radius")
     flipper_y: float = param(0.31, gt=0, unit="m", doc="flipper centre line at +-flipper_y")
     flipper_w: float = param(0.06, gt=0, unit="m", doc="flipper width")
     flipper_mass: float = param(3.0, gt=0, unit="kg", doc="mass of each flipper")
     flipper_range: tuple[float, float] = param((-1.2, 1.4835), length=2, ge=-math.pi, le=math.pi, unit="rad",
-                                               doc="flipper joint range (lower, upper)")
+                                               doc="flipper joint range (lower, upper); the upper end is the paper's "
+                                                   "85 deg limit")
     flipper_torque: float = param(250.0, gt=0, unit="N m", doc="flipper actuator torque limit")
     flipper_kp: float = param(3000.0, gt=0, unit="N m/rad", doc="flipper position gain")
     arm_mount: tuple[float, float, float] = param((0.2, 0.17, 0.15), length=3, ge=0, unit="m",
-                                                  doc="arm base at (+-x, +-y, z) in the chassis frame")
+                                                  doc="arm base at (+-x, +-y, z) in the chassis frame (the paper's "
+                                                      "m/2, n/2)")
     l1: float = param(0.45, gt=0, le=1.5, unit="m",
-                      doc="boom length; <= 1.5 m: beyond 1.3 m the boom's 300 N m cannot hold up "
-                          "a quarter of the 94 kg robot")
+                      doc="boom length; <= 1.5 m: the compiled robot weighs 94 kg, so one of four supporting arms "
+                          "carries about 230 N, which the boom's default 300 N m holds at no more than 1.3 m of lever")
     l2: float = param(0.45, gt=0, le=1.5, unit="m",
                       doc="forearm length; <= 1.5 m, as the boom (an arm that long cannot carry "
                           "the 94 kg robot)")
@@ -156,11 +129,11 @@ class RobotConfig:
     link_mass: tuple[float, float, float] = param((2.5, 1.5, 0.5), length=3, gt=0, unit="kg",
                                                   doc="(boom, forearm, tip) masses")
     swing_range: tuple[float, float] = param((-1.3, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad",
-                                             doc="swing joint range (lower, upper)")
+                                             doc="swing joint range (lower, upper) in our convention")
     boom_range: tuple[float, float] = param((-1.2, 1.3), length=2, ge=-math.pi, le=math.pi, unit="rad",
-                                            doc="boom joint range (lower, upper)")
+                                            doc="boom joint range (lower, upper) in our convention")
     elbow_range: tuple[float, float] = param((-0.3, 2.6), length=2, ge=-math.pi, le=math.pi, unit="rad",
-                                             doc="elbow joint range (lower, upper)")
+                                             doc="elbow joint range (lower, upper) in our convention")
     arm_torque: tuple[float, float, float] = param((100.0, 300.0, 150.0), length=3, gt=0, unit="N m",
                                                    doc="(swing, boom, elbow) torque limits")
     arm_kp: tuple[float, float, float] = param((800.0, 2500.0, 1500.0), length=3, gt=0, unit="N m/rad",
@@ -169,14 +142,20 @@ class RobotConfig:
     roller_damping: float = param(0.02, ge=0, unit="N m s/rad", doc="joint damping of the tip rollers")
     friction: float = param(1.0, ge=0, doc="sliding friction of the robot geoms (tracks, tips)")
     link_friction: float = param(0.3, ge=0,
-                                 doc="sliding friction of the arm links (boom, forearm); their contacts use it "
-                                     "(priority 1)")
+                                 doc="sliding friction of the arm links (boom, forearm); MuJoCo takes the larger "
+                                     "friction of a pair, so the links get priority 1 and their pairs use this value")
     tip_solref: tuple[float, float] = param((0.008, 1.0), length=2, gt=0, unit="s, -",
-                                            doc="arm-tip contact time constant and damping ratio (priority 1)")
+                                            doc="arm-tip contact time constant and damping ratio (priority 1): "
+                                                "stiffer than the default (0.02, 1) so a pressed tip sinks "
+                                                "millimetres, not centimetres")
     joint_speed: tuple[float, float, float, float] = param((4.4, 4.4, 4.4, 4.4), length=4, gt=0, unit="rad/s",
-                                                           doc="speed limits of (flipper, swing, boom, elbow)")
+                                                           doc="speed limits of (flipper, swing, boom, elbow): servo "
+                                                               "commands move at most this fast and the servos' "
+                                                               "velocity gain kv = torque limit / speed limit "
+                                                               "saturates at it")
     track_power: float = param(300.0, gt=0, unit="W",
-                               doc="crawler drive power limit per side (main track + its two flippers)")
+                               doc="crawler drive power limit per side (main track + its two flippers): the crawler "
+                                   "speed is cut so that the sampled traction force times the speed stays below it")
 
 
 def _surface(geom, lin=(0.0, 0.0, 0.0), ang=(0.0, 0.0, 0.0)) -> None:

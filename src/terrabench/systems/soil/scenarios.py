@@ -42,22 +42,15 @@ SCENARIO = "soil/single-wheel-v1"
 
 @dataclass(frozen=True)
 class SoilTestbedConfig:
-    """A single-wheel trial's config.
-
-    Attributes:
-        wheel: the rigid wheel (radius, width, mass).
-        rig: testbed settings (spin, physics step, settle and averaging times, servo gains).
-        control_period: how often the (constant) servo targets are re-applied and the log is
-            sampled (s).
-        custom_soil: parameters of the soil named ``custom`` in an instance id.
-        soil: the soil this trial runs on: set by planning from the instance id (a preset, or
-            ``custom_soil``), so the parameters are stored and hashed with the trial.
-    """
+    """A single-wheel trial's config: the rigid ``wheel``, the testbed settings (``rig``), the
+    parameters of the soil named ``custom`` in an instance id (``custom_soil``) and the soil this
+    trial runs on (``soil``: set by planning from the instance id, a preset or ``custom_soil``, so
+    the parameters are stored and hashed with the trial)."""
 
     wheel: WheelParams = HIT_MRII_WHEEL
     rig: RigConfig = field(default_factory=RigConfig)
     control_period: float = param(0.01, gt=0, unit="s",
-                                  doc="how often the servo targets are re-applied and the log is sampled")
+                                  doc="how often the (constant) servo targets are re-applied and the log is sampled")
     custom_soil: SoilParams = replace(MARS_SOFT, name="custom", source="user-set (--set custom_soil.*)")
     soil: SoilParams = MARS_SOFT
 
@@ -84,6 +77,9 @@ class SoilSystem(System):
     perf_instances = ("mars_soft/W100/s0.20",)
     smoke = {"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"],
              "overrides": {"rig.settle_s": 0.3, "rig.average_s": 0.1}}
+    #: a --set key and two values whose smoke runs the report shows as two variants (the test in
+    #: tests/report/test_report_variants.py): the soil rig has no timeout to vary
+    report_variant = ("rig.average_s", 0.1, 0.15)
     golden = ({"methods": ["rig"], "instances": ["mars_soft/W100/s0.20"],
                "overrides": {"rig.settle_s": 0.5, "rig.average_s": 0.3}},
               {"methods": ["cmu-fit-b0"], "instances": ["cmu/b0/t029"]})

@@ -28,18 +28,11 @@ GRAVITY = 9.81
 
 @dataclass(frozen=True)
 class RigConfig:
-    """Testbed settings.
+    """Testbed settings."""
 
-    Attributes:
-        omega: wheel spin when driving; in skid the hub moves at r omega and the wheel spins at
-            (1 + s) omega (rad/s), > 0.
-        timestep: MuJoCo step (s), > 0.
-        settle_s: time before averaging (s), > 0.  average_s: averaging window (s), > 0.
-        kv_carriage: carriage velocity-servo gain (N s/m), > 0.  kv_wheel: wheel servo gain (N m s/rad), > 0.
-        carriage_mass: (kg), > 0; moves horizontally only, not part of the load.
-    """
-
-    omega: float = param(1.0, gt=0, unit="rad/s", doc="wheel spin when driving (in skid the hub moves at r omega)")
+    omega: float = param(1.0, gt=0, unit="rad/s",
+                         doc="wheel spin when driving; in skid the hub moves at r omega and the wheel spins at (1 + "
+                             "s) omega")
     timestep: float = param(0.001, gt=0, unit="s", doc="MuJoCo step")
     settle_s: float = param(1.5, gt=0, unit="s", doc="time before averaging")
     average_s: float = param(0.5, gt=0, unit="s", doc="averaging window")

@@ -40,8 +40,55 @@ ALLOWED_LIFTS = (
     ("c3", "c6"),
     ("c4", "c5"),
 )
-NAMES = ("MC2", "MC3", "MC4", "MC5", "MC6", "MC7", "MC8", "MC9", "MC10", "MC11")
 INF = math.inf
+
+
+@dataclass(frozen=True)
+class MotionConstraint:
+    """One motion constraint MC#k as one definition the IK and the supervisor both read.
+
+    ``measures``: the quantity, as the paper states it; ``scale``: the :class:`Scales` field its
+    ratio is normalised by; ``ratio``: its slot in the ratio vector (and in each mode's kappa
+    of :data:`THRESHOLDS`); ``qp_rows``: the rows ``[start, stop)`` of the saturated IK's
+    ``G u <= h`` that keep it one step ahead (None: not in the QP); ``halts``: the supervisor
+    halts when the measured ratio reaches kappa; ``with_clutch``: its QP rows are kept in the
+    lifting modes (False: the symmetric-lift rows a clutched side does not follow). The rows are
+    built by :func:`~terrabench.systems.srwmr.ik.build_qp` and the ratios by
+    :func:`period_ratios` (compiled, one kernel each); tests/srwmr/test_constraints_ik_metrics.py
+    checks that a command on a term's QP boundary gives exactly its kappa as ratio.
+    """
+
+    name: str
+    measures: str
+    scale: str
+    ratio: int
+    qp_rows: tuple[int, int] | None
+    halts: bool
+    with_clutch: bool = True
+
+    def kappa(self, mode: str) -> float:
+        return float(thresholds(mode)[self.ratio])
+
+
+#: MC#2-MC#11, in the order of the ratio vector (MC#1 is the lift precondition, :func:`mc1_check`)
+CONSTRAINTS = (
+    MotionConstraint("MC2", "commanded rim speeds against those the suspension motion requires", "v2", 0,
+                     None, False),
+    MotionConstraint("MC3", "front-middle wheelbase reduction", "wb_min", 1, (0, 2), False),
+    MotionConstraint("MC4", "left-right hinge-height asymmetry (roll)", "dh", 2, (2, 4), True, False),
+    MotionConstraint("MC5", "left-right wheelbase asymmetry (yaw deflection)", "dd", 3, (4, 6), True, False),
+    MotionConstraint("MC6", "rocker-induced front-wheel speed against the side's speed", "v_floor", 4, (6, 10),
+                     False),
+    MotionConstraint("MC7", "change of the forward speed per step", "v_floor", 5, (10, 12), False),
+    MotionConstraint("MC8", "change of the yaw rate per step", "w_floor", 6, (12, 14), False),
+    MotionConstraint("MC9", "left-right vertical speed difference (roll rate)", "vz9", 7, (14, 16), False, False),
+    MotionConstraint("MC10", "W_diff, the spread of the wheel loads", "w_diff", 8, None, True),
+    MotionConstraint("MC11", "W_fmr, the largest wheel load's distance from the mean", "w_fmr", 9, None, True),
+)
+NAMES = tuple(c.name for c in CONSTRAINTS)
+#: the ratios the supervisor halts on (the stability margins of sec. 7.1, posture and loads):
+#: "feasibility prerequisites ... not considered as stability-margin indicators" [S] are not
+MONITORED = np.array([c.halts for c in CONSTRAINTS])
 
 
 def mc1_check(lifted) -> None:
@@ -110,10 +157,10 @@ def thresholds(mode: str) -> np.ndarray:
 
 def qp_thresholds(mode: str) -> np.ndarray:
     """The kappa vector the saturated IK enforces in ``mode`` (:data:`LIFTING_MODES` without the
-    rows MC#4, MC#5, MC#9)."""
+    rows of the terms kept only without a clutch: MC#4, MC#5, MC#9)."""
     k = thresholds(mode)
     if mode in LIFTING_MODES:
-        k[[NAMES.index("MC4"), NAMES.index("MC5"), NAMES.index("MC9")]] = INF
+        k[[c.ratio for c in CONSTRAINTS if not c.with_clutch]] = INF
     return k
 
 

@@ -51,11 +51,8 @@ from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
 #: +1 for the left wheels (c1, c3, c5), -1 for the right ones
 _SIDE_SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
 
-#: ratios the supervisor halts on (index into constraints.NAMES): the stability margins of sec. 7.1,
-#: posture (MC#4, #5) and contact forces (MC#10, #11). MC#6-#9 are kept by the QP; MC#2 and #3 are
-#: "feasibility prerequisites ... not considered as stability-margin indicators" [S] (the QP keeps
-#: MC#3; MC#2 is logged).
-MONITORED = np.array([n in ("MC4", "MC5", "MC10", "MC11") for n in mc.NAMES])
+#: ratios the supervisor halts on: the terms whose ``halts`` is set (constraints.CONSTRAINTS)
+MONITORED = mc.MONITORED
 #: RCM still set: gain (1/s) of the hold on the wheels' rotation over the ground; with the 2000 N m s/rad
 #: velocity servo a stiffness of 4000 N m/rad, 0.5 s time constant (terrabench choice)
 HOLD_GAIN = 2.0

@@ -138,12 +138,13 @@ def test_page_clip_cuts_the_episode_and_shows_a_video(tmp_path, monkeypatch):
     short = cut_at(SYSTEM, long, 0.5)
     assert short.config["protocol"]["timeout"] == 0.5 and long.config["protocol"]["timeout"] == 50.0
     assert cut_at(SYSTEM, spec(timeout=0.2), 0.5).config["protocol"]["timeout"] == 0.2  # never longer
-    # a system whose 0 means "the instance's own limit" (srwmr) is cut too
+    # a system whose limit is the instance's own (srwmr) carries it in the planned config and is cut too
     from terrabench.catalog import system
 
     rover = system("srwmr").plan(methods=["wrm"], instances=["t1-loose"])[0]
-    assert rover.config["protocol"]["timeout"] == 0.0
+    assert rover.config["protocol"]["timeout"] == 150.0
     assert cut_at(system("srwmr"), rover, 60.0).config["protocol"]["timeout"] == 60.0
+    assert cut_at(system("srwmr"), rover, 500.0).config["protocol"]["timeout"] == 150.0  # never longer
     page = Page(tmp_path, "clip")
     assert page.clip("c.mp4", "a clip", SYSTEM, long, 0.5, every=10, width=W, height=H)
     text = page.finish().read_text()

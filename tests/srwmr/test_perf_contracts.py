@@ -177,7 +177,7 @@ def test_compiled_log_row_equals_the_numpy_form_bitwise():
 
 
 def test_compiled_supervisor_and_steering_checks_equal_the_numpy_expressions():
-    from terrabench.systems.srwmr.control import MONITORED
+    MONITORED = mc.MONITORED
     from terrabench.systems.srwmr.kinematics import steering_wait
 
     rng = np.random.default_rng(15)

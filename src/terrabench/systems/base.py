@@ -170,6 +170,24 @@ class ModeMachine:
         return events_info(self.events)
 
 
+class MachineController:
+    """Base of a controller whose discrete state is a :class:`ModeMachine` (``self.machine``, set
+    by the subclass): its current ``state``, its recorded ``events`` and ``info()`` read from it."""
+
+    machine: ModeMachine
+
+    @property
+    def state(self) -> Any:
+        return self.machine.state
+
+    @property
+    def events(self) -> list[Transition]:
+        return self.machine.events
+
+    def info(self) -> dict[str, Any]:
+        return self.machine.info()
+
+
 def events_info(events: Sequence[Transition]) -> dict[str, Any]:
     """``{"events": [...]}`` for a controller's ``info()``: the transitions as JSON lists."""
     return {"events": [e.as_list() for e in events]}

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from terrabench.systems.base import ModeMachine, Transition
+from terrabench.systems.base import MachineController, ModeMachine
 from terrabench.systems.octopus.controller_config import CCMConfig
 from terrabench.systems.octopus.robot import RobotConfig
 from terrabench.systems.octopus.rules import Command, flipper_rule, steer
@@ -44,7 +44,7 @@ def tip_back_angle(q_rear: float, pitch: float, robot: RobotConfig, cog_z: float
     return math.atan2(-xc, cog_z - zc)
 
 
-class CCMController:
+class CCMController(MachineController):
     """``obs -> Command`` for the crawler-only mode."""
 
     def __init__(self, cfg: CCMConfig, dt: float = 0.02, robot: RobotConfig | None = None):
@@ -63,18 +63,6 @@ class CCMController:
         self.tau_ref = np.zeros(2)
         self.heading = 0.0  # integrated gyro yaw rate (rad), as in CLM
         self.machine = ModeMachine(APPROACH, MODE_NAMES)  # the controller state; records every change
-
-    @property
-    def state(self) -> int:
-        """The controller state (a code of :data:`MODE_NAMES`)."""
-        return self.machine.state
-
-    @property
-    def events(self) -> list[Transition]:
-        return self.machine.events
-
-    def info(self) -> dict:
-        return self.machine.info()
 
     def _goto(self, t: float, dst: int, reason: str) -> None:
         self.machine.go(t, dst, reason)

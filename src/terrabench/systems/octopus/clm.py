@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from terrabench.systems.base import ModeMachine, Transition
+from terrabench.systems.base import MachineController, ModeMachine
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.controller_config import CLMConfig
 from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
@@ -45,7 +45,7 @@ MODE_NAMES = {WALK: "walk", CLIMB: "climb", RELEASE: "release", INIT: "init"}
 SUPPORT, TRANSFER = "support", "transfer"
 
 
-class CLMController:
+class CLMController(MachineController):
     """The CLM state machine: ``obs -> Command``."""
 
     def __init__(self, cfg: CLMConfig, robot: RobotConfig, dt: float = 0.02):
@@ -85,18 +85,6 @@ class CLMController:
         self.release_pitch = 0.0
         self.resumes = 0  # releases of this climb that resumed it
         self.machine = ModeMachine(INIT, MODE_NAMES)  # the controller state; records every change
-
-    @property
-    def state(self) -> int:
-        """The controller state (a code of :data:`MODE_NAMES`)."""
-        return self.machine.state
-
-    @property
-    def events(self) -> list[Transition]:
-        return self.machine.events
-
-    def info(self) -> dict:
-        return self.machine.info()
 
     def _goto(self, t: float, dst: int, reason: str) -> None:
         """Change the controller state, recording the transition."""

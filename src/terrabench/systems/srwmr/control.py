@@ -34,7 +34,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from terrabench.sim.checks import DONE, HALT, StopRequest
-from terrabench.systems.base import ModeMachine, Transition
+from terrabench.systems.base import MachineController, ModeMachine
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SupervisorConfig
 from terrabench.systems.srwmr.ik import IKLimits, IKState, SaturatedIK
@@ -45,14 +45,12 @@ from terrabench.systems.srwmr.kinematics import (
     steering_wait,
 )
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction, check_lift
-from terrabench.systems.srwmr.modes import MODES, ModeAction, Step, action_for
+from terrabench.systems.srwmr.modes import MODES, ModeAction, Step, WheelLegged, action_for
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, RobotConfig
 
 #: +1 for the left wheels (c1, c3, c5), -1 for the right ones
 _SIDE_SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
 
-#: ratios the supervisor halts on: the terms whose ``halts`` is set (constraints.CONSTRAINTS)
-MONITORED = mc.MONITORED
 #: RCM still set: gain (1/s) of the hold on the wheels' rotation over the ground; with the 2000 N m s/rad
 #: velocity servo a stiffness of 4000 N m/rad, 0.5 s time constant (terrabench choice)
 HOLD_GAIN = 2.0
@@ -92,7 +90,7 @@ class Period(NamedTuple):
         return self.susp[1]
 
 
-class RoverController:
+class RoverController(MachineController):
     """The scripted operator's plan, executed through the saturated IK with the supervisor.
 
     The plan's steps run one after another, each as a mode object
@@ -150,16 +148,12 @@ class RoverController:
         return self.machine.state
 
     @property
-    def events(self) -> list[Transition]:
-        return self.machine.events
-
-    @property
     def legged(self) -> LeggedAction | None:
-        """The step's legged action (SWLM / DWLM), else None."""
-        return self.action if isinstance(self.action, LeggedAction) else None
+        """The step's legged action sequence (SWLM / DWLM), else None."""
+        return self.action.seq if isinstance(self.action, WheelLegged) else None
 
     def info(self) -> dict:
-        out = self.machine.info()
+        out = super().info()
         out.update(self.ik.timing())
         out["reminders"] = dict(self.reminders)
         if self.legged_log or self.legged is not None:
@@ -250,7 +244,7 @@ class RoverController:
             ratios[2] = mc.eta_roll(np.array([self.robot.hinge_track * math.sin(float(obs.rpy[0])), 0.0]), self.sc)
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
-        i = mc.halting_ratio(ratios, kappa, MONITORED)  # the largest ratio / kappa >= 1, or -1
+        i = mc.halting_ratio(ratios, kappa, mc.MONITORED)  # the largest ratio / kappa >= 1, or -1
         if i >= 0:
             return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
         return self._command(obs, u, steer_only=nom.steer_only, lifted=nom.lifted, ratios=ratios)

@@ -156,29 +156,29 @@ def methods_of(instance: str) -> tuple[str, ...]:
     return tuple(m for e in REGISTRY.get(instance, ()) for m in e.methods)
 
 
-def time_limit(cfg, instance: str, method: str) -> float:
-    """The simulated time limit (s) of ``instance`` run with ``method`` under ``cfg``: its
-    ``protocol.timeout`` if set, else the registration's (the planner writes it into every stored
-    config, so a stored trial always carries its number)."""
-    t = cfg.protocol.timeout
-    if t is not None:
-        return float(t)
-    e = entry(instance, method)
-    if e is None:
-        layout(instance, method, cfg.robot)  # raises the one-line error naming the valid ids
-    return e.timeout
-
-
-def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6, lift: str = "") -> Layout:
-    """The terrain, soil, plan and goal of ``instance`` run with ``method`` (``lift``:
-    the wheels a T12/T13 SWLM/DWLM trial lifts, e.g. "c1" or "c1+c2"; empty: the instance's own)."""
+def registered(instance: str, method: str) -> Entry:
+    """The registration that runs ``method`` on ``instance``, or one ValueError naming the valid ids."""
     e = entry(instance, method)
     if e is None:
         if instance not in REGISTRY:
             raise ValueError(f"unknown srwmr instance {instance!r}; valid: {', '.join(REGISTRY)}")
         raise ValueError(f"method {method!r} does not apply to instance {instance!r}; valid: "
                          f"{', '.join(methods_of(instance))}")
-    return e.build(Build(instance, method, robot, approach, lift))
+    return e
+
+
+def time_limit(cfg, instance: str, method: str) -> float:
+    """The simulated time limit (s) of ``instance`` run with ``method`` under ``cfg``: its
+    ``protocol.timeout`` if set, else the registration's (the planner writes it into every stored
+    config, so a stored trial always carries its number)."""
+    t = cfg.protocol.timeout
+    return float(t) if t is not None else registered(instance, method).timeout
+
+
+def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6, lift: str = "") -> Layout:
+    """The terrain, soil, plan and goal of ``instance`` run with ``method`` (``lift``: the wheels a
+    T12/T13 SWLM/DWLM trial lifts, e.g. "c1" or "c1+c2"; empty: the instance's own)."""
+    return registered(instance, method).build(Build(instance, method, robot, approach, lift))
 
 
 FLAT = ((-50.0, 0.0), (50.0, 0.0))

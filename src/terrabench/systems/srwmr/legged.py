@@ -169,7 +169,6 @@ class LeggedAction:
         self.best = (-1.0, obs.t)
         self.touch_t = None
         self.rate = LIFT_SPEED
-        self.reversing = False  # the supervisor's return has begun (:meth:`unwind`)
 
     @property
     def name(self) -> str:
@@ -188,34 +187,6 @@ class LeggedAction:
         self.t_phase = obs.t
         if self.name == "release":
             self.lifted = ()
-
-    # ------------------------------------------------------------ the mode protocol (modes.py)
-    def nominal(self, ctl, obs, x: float, y: float, dyaw: float):
-        """This period's :class:`~terrabench.systems.srwmr.modes.Nominal` (levelled, with the clutches)."""
-        from terrabench.systems.srwmr.modes import Nominal
-
-        u, done = self.command(ctl, obs, x)
-        u = self.level(ctl, obs, u)
-        return Nominal(u, done, False, self.lifted, self.clutch)
-
-    def reply(self, ctl, obs) -> bool:
-        """The operator's answer ends the current action (the step goes on), except while restoring."""
-        if self.name == "restore":
-            return False
-        self.advance(obs, "operator replied: action ended")
-        return True
-
-    def unwind(self, ctl, obs):
-        """The supervisor's return: the wheel lowered with the clutch engaged, released, the clearance
-        restored (:meth:`reverse`, then the remaining actions); ``done`` once back."""
-        from terrabench.systems.srwmr.modes import Nominal
-
-        if not self.reversing:
-            self.reverse(obs)
-            self.reversing = True
-        u, back = self.command(ctl, obs, ctl.local(obs)[0])
-        u = self.level(ctl, obs, u)
-        return Nominal(u, back, False, self.lifted, self.clutch)
 
     def command(self, ctl, obs, x: float):
         """(u_nom (5,), done) of this period; sets ``clutch`` and ``lifted`` for the command."""

@@ -13,8 +13,8 @@ Every mode answers the same protocol (:class:`ModeAction`), and the controller
 * :meth:`ModeAction.unwind`: the supervisor's return to the step's start state, or None for the
   default (the suspension driven back to its start angles).
 
-The wheel modes live here (seed 001 sec. 3, Fig. 5); SWLM / DWLM are
-:class:`~terrabench.systems.srwmr.legged.LeggedAction`. What a mode may read of the controller is
+The wheel modes live here (seed 001 sec. 3, Fig. 5); SWLM / DWLM (:class:`WheelLegged`) run the
+action sequence of :class:`~terrabench.systems.srwmr.legged.LeggedAction`. What a mode may read of the controller is
 public: ``robot``, ``sup``, ``lim``, ``ts``, ``u_prev``, ``period`` (this period's geometry),
 ``step_start``, ``local(obs)`` and ``closing_rate(obs, vz, target)``; what it may set is
 ``steer_goal`` (steering in place) and ``rolling`` (RCM's rolling set for this period's command).
@@ -29,6 +29,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
+from terrabench.systems.srwmr.legged import LEGGED, LeggedAction
 
 
 @dataclass(frozen=True)
@@ -267,20 +268,50 @@ class Creeping(_Mode):
         return Nominal(np.array([vx, 0.0, 0.0, rate[0], rate[1]]))
 
 
-#: plan-step mode -> its action class (the legged modes are added by legged.py's LeggedAction)
-WHEEL_MODES = {"WRM": WheelRolling, "WCM": WheelCrabbing, "RCLM": ChassisLifting, "RCM": Creeping}
+class WheelLegged(_Mode):
+    """SWLM / DWLM: the action sequence of :class:`~terrabench.systems.srwmr.legged.LeggedAction`
+    (shift, clutch, lift, roll, lower, release, restore), levelled, with its clutches."""
+
+    def __init__(self, step: Any, robot: Any, obs: Any, k: int) -> None:
+        super().__init__(step)
+        self.seq = LeggedAction(robot, step, obs, k)
+        self.reversing = False  # the supervisor's return has begun (:meth:`unwind`)
+
+    def _out(self, ctl: Any, obs: Any, u: np.ndarray, done: bool) -> Nominal:
+        return Nominal(self.seq.level(ctl, obs, u), done, False, self.seq.lifted, self.seq.clutch)
+
+    def nominal(self, ctl: Any, obs: Any, x: float, y: float, dyaw: float) -> Nominal:
+        u, done = self.seq.command(ctl, obs, x)
+        return self._out(ctl, obs, u, done)
+
+    def reply(self, ctl: Any, obs: Any) -> bool:
+        """The answer ends the current action (the step goes on), except while restoring."""
+        if self.seq.name == "restore":
+            return False
+        self.seq.advance(obs, "operator replied: action ended")
+        return True
+
+    def unwind(self, ctl: Any, obs: Any) -> Nominal:
+        """The wheel lowered with the clutch engaged, released, the clearance restored
+        (:meth:`LeggedAction.reverse`, then the remaining actions); ``done`` once back."""
+        if not self.reversing:
+            self.seq.reverse(obs)
+            self.reversing = True
+        u, back = self.seq.command(ctl, obs, ctl.local(obs)[0])
+        return self._out(ctl, obs, u, back)
+
+
+#: plan-step mode -> its action class
+MODE_CLASSES = {"WRM": WheelRolling, "WCM": WheelCrabbing, "RCLM": ChassisLifting, "RCM": Creeping,
+                "SWLM": WheelLegged, "DWLM": WheelLegged}
+#: every mode a plan step may name
+MODES = tuple(MODE_CLASSES)
 
 
 def action_for(step: Any, robot: Any, obs: Any, k: int) -> ModeAction:
     """The action object executing plan step ``k`` (``step.mode`` one of :data:`MODES`)."""
-    from terrabench.systems.srwmr.legged import LEGGED, LeggedAction
-
     if step.mode in LEGGED:
-        return LeggedAction(robot, step, obs, k)
+        return WheelLegged(step, robot, obs, k)
     if step.mode == "RCLM":
         return ChassisLifting(step, robot)
-    return WHEEL_MODES[step.mode](step)
-
-
-#: every mode a plan step may name
-MODES = tuple(WHEEL_MODES) + ("SWLM", "DWLM")
+    return MODE_CLASSES[step.mode](step)

@@ -6,12 +6,11 @@ climbing efficiency drops below 10 %), ``swlm`` / ``dwlm`` (one wheel / a symmet
 the clutch engaged, :mod:`~terrabench.systems.srwmr.legged`). Each instance is registered with
 the methods that apply to it and its time limit (:func:`~terrabench.systems.srwmr.layouts.instance`);
 :meth:`SRWMRSystem.applies` reads the registry, and the planner keeps only the pairs that apply.
-A method says what ends its trial (:attr:`RoverMethod.goal_line`).
+A method says what ends its trial (:attr:`~terrabench.systems.srwmr.methods.RoverMethod.goal_line`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -19,43 +18,11 @@ from terrabench.benchmark.trial import TrialSpec
 from terrabench.config import to_dict
 from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.srwmr.config import SRWMRConfig
-from terrabench.systems.srwmr.layouts import entry, instance_ids, time_limit
+from terrabench.systems.srwmr.layouts import entry, instance_ids, registered, time_limit
+from terrabench.systems.srwmr.methods import METHODS
 
 SCENARIO = "srwmr/tasks-v1"
 SLOPE_SCENARIO = "srwmr/slopes-v1"
-
-
-@dataclass(frozen=True)
-class RoverMethod(MethodInfo):
-    """A rover method; ``goal_line``: its trial succeeds the moment the chassis passes the
-    instance's goal line (a drive towards it); False: when its plan ends at the goal (a scripted
-    manoeuvre whose last action must be completed, e.g. a crab that steers back, a lowered wheel)."""
-
-    goal_line: bool = False
-
-
-METHODS = {
-    "wrm": RoverMethod(
-        "wrm", "wheel rolling mode (straight, Ackermann path), health halt at body slip 0.96", ("wheels",),
-        goal_line=True,
-    ),
-    "wcm": RoverMethod("wcm", "wheel crabbing mode: steer +-90 deg, roll sideways, steer back", ("wheels",)),
-    "rclm": RoverMethod(
-        "rclm", "robot chassis lifting mode: raise/lower the chassis, wheels coordinated (MC#2)", ("suspension",)
-    ),
-    "rcm": RoverMethod(
-        "rcm", "robot creeping mode (inchworm), entered from WRM below 10 % climbing efficiency", ("suspension",),
-        goal_line=True,
-    ),
-    "swlm": RoverMethod(
-        "swlm", "single wheel legged mode: CoM shift, clutch, lift one wheel (MC#1), roll, lower, release",
-        ("suspension", "clutch"),
-    ),
-    "dwlm": RoverMethod(
-        "dwlm", "double wheel legged mode: as SWLM with a symmetric pair (c1+c2, c3+c4, c5+c6)",
-        ("suspension", "clutch"),
-    ),
-}
 
 
 class SRWMRSystem(System):
@@ -95,7 +62,7 @@ class SRWMRSystem(System):
         return entry(instance, method) is not None
 
     def scenario(self, method: str, instance: str) -> str:
-        return SLOPE_SCENARIO if entry(instance, method).group == "slopes" else SCENARIO
+        return SLOPE_SCENARIO if registered(instance, method).group == "slopes" else SCENARIO
 
     def check_trial(self, method: str, instance: str, cfg: SRWMRConfig) -> None:
         """MC#1 on a ``scene.lift`` an instance's builder reads (T12, T13): one line naming the
@@ -103,7 +70,7 @@ class SRWMRSystem(System):
         from terrabench.systems.srwmr.legged import check_lift
 
         lift = cfg.scene.lift
-        if lift and entry(instance, method).uses_lift:
+        if lift and registered(instance, method).uses_lift:
             try:
                 check_lift(method.upper(), tuple(lift.split("+")))
             except ValueError as exc:

@@ -26,6 +26,7 @@ from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
 from terrabench.systems.srwmr.layouts import Layout, layout, time_limit
 from terrabench.systems.srwmr.legged import apply_clutch
+from terrabench.systems.srwmr.methods import METHODS
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
     SIDES,
@@ -35,7 +36,6 @@ from terrabench.systems.srwmr.robot import (
     add_robot,
     wheel_bodies,
 )
-from terrabench.systems.srwmr.scenarios import METHODS
 from terrabench.systems.srwmr.sensing import Observation
 from terrabench.systems.srwmr.soils import srwmr_soil
 from terrabench.terrain.mjcf import add_heightfield

@@ -64,8 +64,6 @@ class CCMController(MachineController):
         self.heading = 0.0  # integrated gyro yaw rate (rad), as in CLM
         self.machine = ModeMachine(APPROACH, MODE_NAMES)  # the controller state; records every change
 
-    def _goto(self, t: float, dst: int, reason: str) -> None:
-        self.machine.go(t, dst, reason)
 
     def _toward(self, i: int, target: float) -> None:
         c = self.cmd.flip
@@ -102,7 +100,7 @@ class CCMController(MachineController):
             why = f"pitch {p:.2f} > {pp:.2f}" if p > pp else \
                 f"front flippers at {cfg.a0} rad pushed (torque change {np.abs(dtau).max():.0f} N m > {cfg.t0:g})"
             self.peak, self.peak_t = p, obs.t
-            self._goto(obs.t, PRESS, why)
+            self.machine.go(obs.t, PRESS, why)
 
     def __call__(self, obs) -> Command:
         cfg, c = self.cfg, self.cmd
@@ -113,15 +111,17 @@ class CCMController(MachineController):
             self.peak, self.peak_t = p, obs.t
         if self.state != ABORT:
             if abs(p) >= cfg.abort_pitch:
-                self._goto(obs.t, ABORT, f"|pitch| {abs(p):.2f} rad >= {cfg.abort_pitch}")
+                self.machine.go(obs.t, ABORT, f"|pitch| {abs(p):.2f} rad >= {cfg.abort_pitch}")
             elif cfg.tip_back and p > 0:
                 tb = tip_back_angle(0.5 * float(obs.q_flip[2] + obs.q_flip[3]), p, self.robot, cfg.cog_z)
                 if p >= tb:
-                    self._goto(obs.t, ABORT, f"pitch {p:.2f} rad >= tip-back angle {tb:.2f} rad over the rear contact")
+                    self.machine.go(obs.t, ABORT,
+                                    f"pitch {p:.2f} rad >= tip-back angle {tb:.2f} rad over the rear contact")
         if self.state in (PRESS, PUSH) and obs.t - self.peak_t > cfg.stall_time and self.tries < cfg.retries:
             self.tries += 1
             self.back_until = obs.t + cfg.back_time
-            self._goto(obs.t, BACK_OFF, f"no pitch gain for {cfg.stall_time:g} s (try {self.tries} of {cfg.retries})")
+            self.machine.go(obs.t, BACK_OFF,
+                            f"no pitch gain for {cfg.stall_time:g} s (try {self.tries} of {cfg.retries})")
         if self.state == APPROACH:
             self._approach(obs)
         elif self.state == PRESS:
@@ -131,7 +131,7 @@ class CCMController(MachineController):
             self._toward(0, fp)
             self._toward(1, fp)
             if p > cfg.push_pitch:
-                self._goto(obs.t, PUSH, f"pitch {p:.2f} > {cfg.push_pitch}")
+                self.machine.go(obs.t, PUSH, f"pitch {p:.2f} > {cfg.push_pitch}")
         elif self.state == PUSH:
             # pitch feedback: the front flippers stay level on the top, the rear ones push while
             # the nose is up and relax once it is down (a dip is not yet the top: no flatten)
@@ -141,20 +141,20 @@ class CCMController(MachineController):
                 self._toward(f, cfg.rear_push if p > cfg.flatten_pitch else 0.0)
             self.level_t = self.level_t + self.dt if abs(p) < 0.05 else 0.0
             if self.level_t >= cfg.level_time:
-                self._goto(obs.t, FLATTEN, f"level for {cfg.level_time:g} s")
+                self.machine.go(obs.t, FLATTEN, f"level for {cfg.level_time:g} s")
         elif self.state == FLATTEN:
             for f in range(4):
                 self._toward(f, 0.0)
             if abs(p) < 0.05 and np.abs(c.flip).max() < 0.05:
                 self.peak, self.settled_t = 0.0, 0.0
-                self._goto(obs.t, APPROACH, "flat")
+                self.machine.go(obs.t, APPROACH, "flat")
         elif self.state == BACK_OFF:
             c.track[:] = -cfg.track_speed
             for f in range(4):
                 self._toward(f, 0.0 if f > 1 else cfg.front_approach)
             if obs.t >= self.back_until:
                 self.peak, self.settled_t, self.level_t = 0.0, 0.0, 0.0
-                self._goto(obs.t, APPROACH, f"backed off {cfg.back_time:g} s")
+                self.machine.go(obs.t, APPROACH, f"backed off {cfg.back_time:g} s")
         else:  # ABORT: stop, flatten the flippers
             c.track[:] = 0.0
             for f in range(4):

@@ -86,9 +86,6 @@ class CLMController(MachineController):
         self.resumes = 0  # releases of this climb that resumed it
         self.machine = ModeMachine(INIT, MODE_NAMES)  # the controller state; records every change
 
-    def _goto(self, t: float, dst: int, reason: str) -> None:
-        """Change the controller state, recording the transition."""
-        self.machine.go(t, dst, reason)
 
     def _arm_event(self, t: float, k: str, src: str, dst: str, reason: str) -> None:
         self.machine.note(t, f"{k}.{src}", f"{k}.{dst}", reason)
@@ -306,7 +303,7 @@ class CLMController(MachineController):
                 c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
             if self.s > self.s_release and h > self.h_est:
                 self.release_pitch = obs.pitch
-                self._goto(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
+                self.machine.go(obs.t, RELEASE, f"H = {h:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
         else:  # RELEASE (eqs. 28-29 second cases), at quasi-static rates
             if obs.pitch - self.release_pitch > cfg.release_tilt and self.resumes < cfg.max_resumes:
                 self.resumes += 1
@@ -314,7 +311,7 @@ class CLMController(MachineController):
                 # over the top (odometry counted slip): lift again and drive on
                 self.s_release = self.s + cfg.release_more
                 self.lift_tgt = self.tip_r.copy()
-                self._goto(obs.t, CLIMB, f"pitch rose {obs.pitch - self.release_pitch:.2f} rad > "
+                self.machine.go(obs.t, CLIMB, f"pitch rose {obs.pitch - self.release_pitch:.2f} rad > "
                            f"{cfg.release_tilt} while releasing: drive {cfg.release_more} m more")
                 return
             for i in range(4):
@@ -325,7 +322,7 @@ class CLMController(MachineController):
                     c.flip[f] = min(c.flip[f] + cfg.release_d_f, 0.0)
             if all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
                 # back to walking on the top: arms re-placed, front flippers to their cruise angle
-                self._goto(obs.t, WALK, "booms and flippers released")
+                self.machine.go(obs.t, WALK, "booms and flippers released")
                 self.queue = list(GAIT_ORDER)
                 c.flip[:2] = cfg.flipper_start
                 self.contact[:] = False
@@ -346,7 +343,7 @@ class CLMController(MachineController):
             self._support(obs, 0.0)
             i = self._transfer(obs)
             if i < 0 and not self.queue and not any(self.phase.values()) and not self.landing.any():
-                self._goto(obs.t, WALK, "four arms placed")
+                self.machine.go(obs.t, WALK, "four arms placed")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c
@@ -397,7 +394,7 @@ class CLMController(MachineController):
                 why = ("front flippers at the limit" if at_limit else
                        f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
                        f"nose up {obs.pitch:.2f} rad")
-                self._goto(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, {why}")
+                self.machine.go(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, {why}")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c

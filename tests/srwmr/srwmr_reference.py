@@ -31,7 +31,8 @@ def geometry_pair_reference(cfg: RobotConfig, delta, mu):
     """``kinematics.geometry_pair`` in Python floats (the form the compiled kernel must equal bitwise;
     tested): ``(geometry(cfg, delta), geometry(cfg, delta, mu))`` in one pass."""
     d0, d1 = float(delta[0]), float(delta[1])
-    b, a, bh, z, th0, lpr, lpf, e, yl = (float(v) for v in cfg.kernel_lengths)
+    b, a, bm, z, th0, lpr, lpf, e, yl, bq, tf = (float(v) for v in cfg.kernel_lengths)
+    ax, az = a * math.cos(tf), -a * math.sin(tf) - lpf
     mu = mu.tolist() if isinstance(mu, np.ndarray) else [float(m) for m in mu]
     s0, c0 = math.sin(0.0), math.cos(0.0)
     P0: list = [None] * 6
@@ -44,16 +45,16 @@ def geometry_pair_reference(cfg: RobotConfig, delta, mu):
         ca, sa = math.cos(ang), math.sin(ang)
         px, pz = -b * ca, -b * sa
         jrow = (b * sa, 0.0, -b * ca)
-        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
+        for wi, xb in ((2 + s, bm), (4 + s, -bq)):
             m = mu[wi]
             P0[wi] = (px + xb - sg * e * s0, sg * yl + sg * e * c0, pz - lpr)
             P[wi] = (px + xb - sg * e * math.sin(m), sg * yl + sg * e * math.cos(m), pz - lpr)
             J0[wi] = J[wi] = jrow
         cq, sq = math.cos(z * dl), math.sin(z * dl)
         for PP, JJ, sm, cm in ((P0, J0, s0, c0), (P, J, math.sin(mu[s]), math.cos(mu[s]))):
-            xa = a - sg * e * sm
-            PP[s] = (xa * cq - lpf * sq, sg * yl + sg * e * cm, -xa * sq - lpf * cq)
-            JJ[s] = (z * (-xa * sq - lpf * cq), 0.0, z * (-xa * cq + lpf * sq))
+            xa = ax - sg * e * sm
+            PP[s] = (xa * cq + az * sq, sg * yl + sg * e * cm, -xa * sq + az * cq)
+            JJ[s] = (z * (-xa * sq + az * cq), 0.0, z * (-xa * cq - az * sq))
     return (np.array(P0), np.array(J0)), (np.array(P), np.array(J))
 
 
@@ -64,7 +65,7 @@ def period_ratios_reference(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta
         side = np.array([0, 1, 0, 1, 0, 1])
         v_kin = u_prev[0] + J[:, 0] * ddelta[side]
         r[0] = mc2_ratio(rim_cmd * np.cos(mu), v_kin, sc)
-    fl = cfg.front_len
+    fl = cfg.wheelbase_fm
     r[1] = max((fl - wb[0]) / fl, (fl - wb[1]) / fl)
     r[2] = eta_roll(dz * delta, sc)
     r[3] = eta_yaw(wb, sc)
@@ -94,7 +95,7 @@ def build_qp_reference(
     MC7 x2, MC8 x2, MC9 x2."""
     d = st.delta
     J = rocker_jacobian(cfg, d) if J is None else J
-    wb0 = cfg.front_len  # nominal front-middle distance
+    wb0 = cfg.wheelbase_fm  # nominal front-middle distance
     wb = wheelbase_front_middle(cfg, d) if wb is None else wb
     dwb = np.array([J[0, 0] - J[2, 0], J[1, 0] - J[3, 0]])  # d wb / d delta per side
     dz = np.array([-(J[0, 2] + J[2, 2] + J[4, 2]) / 3, -(J[1, 2] + J[3, 2] + J[5, 2]) / 3])  # hinge rise per delta

@@ -271,7 +271,7 @@ def period_ratios(cfg, sc: Scales, u, u_prev, J, dz, wb, delta, ddelta, mu, load
 def ratio_consts(cfg, sc: Scales) -> np.ndarray:
     """The scalars :func:`period_ratios` reads, in the kernel's order (a controller builds them
     once and passes them as ``k``)."""
-    return np.array((cfg.front_len, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+    return np.array((cfg.wheelbase_fm, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
                      sc.w_diff, sc.w_fmr))
 
 

@@ -87,7 +87,7 @@ def build_qp(
 
 def kernel_consts(cfg: RobotConfig, sc: mc.Scales, lim: IKLimits, ts: float) -> np.ndarray:
     """The scalars :func:`_qp_kernel` reads after ``u_nom`` (its ``k``), in its order."""
-    return np.array((cfg.front_len, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
+    return np.array((cfg.wheelbase_fm, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
                      lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1]), float)
 
 

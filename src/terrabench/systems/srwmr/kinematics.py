@@ -45,7 +45,7 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
     """(6, 3) axle centres in the body frame for per-side ``delta``, ``zeta``, ``phi`` (rad)."""
     delta, zeta, phi = np.asarray(delta, float), np.asarray(zeta, float), np.asarray(phi, float)
     mu = np.zeros(6) if mu is None else np.asarray(mu, float)
-    b, a, bh, z = cfg.rear_len, cfg.front_len, cfg.bogie_half, cfg.z_ratio
+    b, z = cfg.rear_len, cfg.z_ratio
     th0 = cfg.theta_s20
     e = cfg.wheel_offset * _SIGN
     lat = cfg.steer_y - cfg.hinge_track / 2
@@ -56,7 +56,7 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
         qr = -delta[s] + phi[s]
         px, pz = _rot(-b * math.cos(th0), -b * math.sin(th0), qr)
         qb = qr + zeta[s]
-        for wi, xb in ((2 + s, bh), (4 + s, -bh)):
+        for wi, xb in ((2 + s, cfg.bogie_front), (4 + s, -cfg.bogie_rear)):
             # pillar top at (xb, 0) in the bogie frame; axle at (0, -Lp) in the pillar frame
             # plus the steering-turned offset (-e sin mu, e cos mu)
             ox, oy = -e[wi] * math.sin(mu[wi]), e[wi] * math.cos(mu[wi])
@@ -65,7 +65,7 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
         qf = z * delta[s] + phi[s]
         wi = s
         ox, oy = -e[wi] * math.sin(mu[wi]), e[wi] * math.cos(mu[wi])
-        fx, fz = _rot(a + ox, -cfg.pillar_front, qf)
+        fx, fz = _rot(cfg.front_reach + ox, -cfg.front_drop - cfg.pillar_front, qf)
         out[wi] = (fx, yh + (1 if s == 0 else -1) * lat + oy, fz)
     return out
 
@@ -77,7 +77,8 @@ def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
     (:func:`period_geometry`).
 
     Rear side: the pivot sits at angle theta_s20 + delta below the hinge, the level bogie carries
-    the pillars; front: the section turned by z delta carries its pillar.
+    the pillars (``bogie_front`` ahead of the pivot, ``bogie_rear`` behind); front: the section,
+    ``front_angle`` below the horizontal at nominal, turned by z delta carries its pillar.
     """
     susp, geom, _, _ = period_geometry(cfg, delta, _NO_MU if mu is None else mu)
     return susp if mu is None else geom
@@ -95,7 +96,8 @@ def _suspension_kernel(delta, mu, k):
     (:attr:`RobotConfig.kernel_lengths`). Returns one (5, 6, 3) array: P0, J0, P, J, then [4, 0, :2] the hinge rise
     and [4, 1, :2] the wheelbases (one array: each array a compiled call returns costs ~0.6 us)."""
     d0, d1 = delta[0], delta[1]
-    b, a, bh, z, th0, lpr, lpf, e, yl = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8]
+    b, a, bm, z, th0, lpr, lpf, e, yl, bq, tf = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9], k[10]
+    ax, az = a * math.cos(tf), -a * math.sin(tf) - lpf  # front axle below the steering joint, section frame
     out = np.zeros((5, 6, 3))
     P0, J0, P, J = out[0], out[1], out[2], out[3]
     s0, c0 = math.sin(0.0), math.cos(0.0)
@@ -107,7 +109,7 @@ def _suspension_kernel(delta, mu, k):
         px, pz = -b * ca, -b * sa
         for k in range(2):
             wi = 2 + s + 2 * k
-            xb = bh if k == 0 else -bh
+            xb = bm if k == 0 else -bq
             m = mu[wi]
             P0[wi, 0] = px + xb - sg * e * s0
             P0[wi, 1] = sg * yl + sg * e * c0
@@ -123,12 +125,12 @@ def _suspension_kernel(delta, mu, k):
             cm = c0 if k == 0 else math.cos(mu[s])
             PP = P0 if k == 0 else P
             JJ = J0 if k == 0 else J
-            xa = a - sg * e * sm
-            PP[s, 0] = xa * cq - lpf * sq
+            xa = ax - sg * e * sm
+            PP[s, 0] = xa * cq + az * sq
             PP[s, 1] = sg * yl + sg * e * cm
-            PP[s, 2] = -xa * sq - lpf * cq
-            JJ[s, 0] = z * (-xa * sq - lpf * cq)
-            JJ[s, 2] = z * (-xa * cq + lpf * sq)
+            PP[s, 2] = -xa * sq + az * cq
+            JJ[s, 0] = z * (-xa * sq + az * cq)
+            JJ[s, 2] = z * (-xa * cq - az * sq)
     out[4, 0, 0] = -(J0[0, 2] + J0[2, 2] + J0[4, 2]) / 3
     out[4, 0, 1] = -(J0[1, 2] + J0[3, 2] + J0[5, 2]) / 3
     out[4, 1, 0] = P0[0, 0] - P0[2, 0]
@@ -189,7 +191,7 @@ def chassis_clearance(cfg: RobotConfig, delta) -> float:
     """Ground clearance (m) on flat ground for symmetric ``delta`` (mean of the sides), the
     chassis level: the hinge height above the mean contact height minus the box half height."""
     c = contact_points(cfg, delta, level_zeta(cfg, delta))
-    return float(-c[:, 2].mean() - cfg.chassis_size[2])
+    return float(-c[:, 2].mean() - cfg.box_bottom)
 
 
 def delta_for_clearance(cfg: RobotConfig, clearance: float) -> float:

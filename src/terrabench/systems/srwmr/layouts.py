@@ -184,12 +184,12 @@ def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6
 FLAT = ((-50.0, 0.0), (50.0, 0.0))
 
 
-def _slope(b: Build, deg: float, soil: str, goal_rule: str) -> Layout:
-    """A flat approach then a ``deg`` slope of ``soil``; ``goal_rule`` "front 0.6 m": the chassis x
-    with the front wheels 0.6 m up the slope, "all wheels": every wheel on the slope plus 0.1 m."""
-    a, r = b.robot.front_len, b.robot.wheel_radius
-    foot = a + r + b.approach
-    goal = foot + 0.6 - a if goal_rule == "front 0.6 m" else foot + a + r + 0.1
+def _slope(b: Build, deg: float, soil: str) -> Layout:
+    """A flat approach then a ``deg`` slope of ``soil``, done when every wheel is on the slope: the
+    chassis x with the rear wheels' trailing edge 0.1 m past the foot [S Task 11 "all wheels reached
+    the slope", Task 5 "Once the rear wheels were positioned on the slope"]."""
+    foot = b.robot.nose + b.approach
+    goal = foot + b.robot.tail + 0.1
     v = 0.025
     plan = (
         (Step("WRM", v=v, dist=10.0, until_x=goal, auto_rcm=True),)
@@ -213,16 +213,16 @@ def _t1(b: Build) -> Layout:
 def _t2(b: Build) -> Layout:
     """T2: WRM to a brick wall, WCM past it, WRM to a rock pile, WCM past it, WRM on."""
     robot = b.robot
-    a, r = robot.front_len, robot.wheel_radius
+    nose, tail = robot.nose, robot.tail
     v = 0.025
     lead = 0.3  # period A: WRM towards the wall
-    face = a + r + lead + MARGIN
+    face = nose + lead + MARGIN
     wx, wy, wz_ = T2_WALL
     rx, ry, rz = T2_ROCKS
     side = wy + MARGIN + robot.track / 2 + robot.wheel_width / 2
-    past_wall = face + 2 * wx + MARGIN + a + r  # chassis x with the rear wheels 300 mm past the wall
-    rock_face = past_wall + a + r + MARGIN
-    end = rock_face + 2 * rx + MARGIN + a + r
+    past_wall = face + 2 * wx + MARGIN + tail  # chassis x with the rear wheels 300 mm past the wall
+    rock_face = past_wall + nose + MARGIN
+    end = rock_face + 2 * rx + MARGIN + tail
     boxes = ((face + wx, 0.0, wx, wy, wz_), (rock_face + rx, -side, rx, ry, rz))
     plan = (
         Step("WRM", v=v, dist=lead),  # A
@@ -268,7 +268,7 @@ def _t4(b: Build) -> Layout:
 @instance("t5-slope10", group="tasks", methods=("rcm", "wrm"), timeout=600.0)
 def _t5(b: Build) -> Layout:
     """T5: a 10 deg loose slope, WRM alone or with the supervisor's switch to RCM."""
-    return _slope(b, 10.0, "loose", "front 0.6 m")
+    return _slope(b, 10.0, "loose")
 
 
 @instance("t8-speeds", group="tasks", methods=("wrm",), timeout=700.0)
@@ -321,18 +321,17 @@ def _t10(b: Build) -> Layout:
 @instance("t11-slope15", group="tasks", methods=("wrm", "rcm"), timeout=600.0)
 def _t11(b: Build) -> Layout:
     """T11: a 15 deg loose slope until every wheel is on it [S 'all wheels reached the slope']."""
-    return _slope(b, 15.0, "loose", "all wheels")
+    return _slope(b, 15.0, "loose")
 
 
 @instance("t14-obstacle", group="tasks", methods=("wrm", "wcm", "rclm"), timeout=900.0)
 def _t14(b: Build) -> Layout:
     """T14: past a 150 x 550 x 190 mm obstacle by WRM around it, WCM beside it or RCLM over it."""
     robot = b.robot
-    a, r = robot.front_len, robot.wheel_radius
     L, W, H = OBSTACLE
-    near = a + r + MARGIN
+    near = robot.nose + MARGIN
     far = near + L
-    end = far + MARGIN + a + r
+    end = far + MARGIN + robot.tail
     box = ((near + L / 2, 0.0, L / 2, W / 2, H / 2),)
     v = 0.015
     if b.method == "rclm":
@@ -422,7 +421,7 @@ def _crossing_plan(robot: RobotConfig, mode: str, x_near: float, land: float, he
 def _t6(b: Build) -> Layout:
     """T6: SWLM, the right wheels in turn over a brick pile."""
     robot, r = b.robot, b.robot.wheel_radius
-    x_near = robot.front_len + r + LEGGED_GAP
+    x_near = robot.nose + LEGGED_GAP
     L, W, H = T6_PILE
     plan, xc = _crossing_plan(robot, "SWLM", x_near, x_near + L + r + LEGGED_CLEAR, LEGGED_HEIGHT, 0.025)
     box = ((x_near + L / 2, -robot.track / 2, L / 2, W / 2, H / 2),)
@@ -434,7 +433,7 @@ def _t6(b: Build) -> Layout:
 def _t7(b: Build) -> Layout:
     """T7: DWLM, the wheel pairs in turn up a stair step."""
     robot, r = b.robot, b.robot.wheel_radius
-    x_near = robot.front_len + r + LEGGED_GAP
+    x_near = robot.nose + LEGGED_GAP
     floor, top = 0.01, 0.01 + T7_STEP
     plan, xc = _crossing_plan(robot, "DWLM", x_near, x_near + r + LEGGED_CLEAR, LEGGED_HEIGHT, 0.025)
     boxes = ((0.0, 0.0, 10.0, 2.0, floor / 2), (x_near + 2.0, 0.0, 2.0, 2.0, top / 2))
@@ -463,11 +462,11 @@ def _t12_t13(b: Build) -> Layout:
 def _t14_swlm(b: Build) -> Layout:
     """T14's SWLM row: the right wheels in turn over the obstacle, then WRM to the end."""
     robot = b.robot
-    a, r = robot.front_len, robot.wheel_radius
-    x_near = a + r + LEGGED_GAP
+    r = robot.wheel_radius
+    x_near = robot.nose + LEGGED_GAP
     L, W, H = OBSTACLE
     far = x_near + L
-    end = far + MARGIN + a + r
+    end = far + MARGIN + robot.tail
     plan, xc = _crossing_plan(robot, "SWLM", x_near, far + r + LEGGED_CLEAR, H + 0.03, 0.015)
     plan.append(Step("WRM", v=0.015, dist=10.0, until_x=end))
     box = ((x_near + L / 2, -robot.track / 2, L / 2, W / 2, H / 2),)
@@ -479,9 +478,9 @@ def _t14_swlm(b: Build) -> Layout:
 # ---------------------------------------------------------------------------- group "slopes"
 @instance(*SLOPES, group="slopes", methods=("wrm", "rcm"), timeout=500.0)
 def _slope_sweep(b: Build) -> Layout:
-    """The slope sweep: ``slope-<deg>-<soil>``, success with the front wheels 0.6 m up."""
+    """The slope sweep: ``slope-<deg>-<soil>``, success with every wheel on the slope."""
     _, deg_s, soil = b.instance.split("-", 2)
-    return _slope(b, float(deg_s), soil, "front 0.6 m")
+    return _slope(b, float(deg_s), soil)
 
 
 #: the wheel-legged instances (SWLM / DWLM: T6, T7, T12, T13; T14's SWLM row is in t14-obstacle)

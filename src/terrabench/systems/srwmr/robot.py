@@ -53,12 +53,28 @@ class RobotConfig:
     hinge_track: float = param(0.83, ge=0.3, le=1.5, unit="m", doc="d_b, left-right rocker hinge distance [S 830 mm]")
     front_len: float = param(0.775, ge=0.3, le=1.5, unit="m", doc="d_r21, hinge to front steering axis [S 775 mm]")
     rear_len: float = param(0.3907, ge=0.2, le=1.0, unit="m", doc="d_r22, hinge to bogie pivot [S 390.7 mm]")
-    bogie_half: float = param(0.3875, ge=0.16, le=0.8, unit="m",
-                              doc="bogie pivot to middle/rear steering axes [R: 775/2, front-middle = "
-                                  "middle-rear = 775 mm, front-rear d_wl = 1550 mm]")
+    bogie_front: float = param(0.3875, ge=0.05, le=1.2, unit="m",
+                               doc="bogie pivot to the middle steering axis [R: 775/2, front-middle = "
+                                   "middle-rear = 775 mm; the linkage fit gives 160 mm, docs/srwmr.md]")
+    bogie_rear: float = param(0.3875, ge=0.05, le=1.5, unit="m",
+                              doc="bogie pivot to the rear steering axis [R: 775/2; the fit gives 822 mm]")
+    front_angle: float = param(0.0, ge=0.0, le=1.3, unit="rad",
+                               doc="nominal angle of the front section below the horizontal [R: level; the fit "
+                                   "gives 0.086]")
+    rear_angle: float = param(math.acos(0.3875 / 0.3907), ge=0.0, le=1.45, unit="rad",
+                              doc="nominal angle theta_s20 of the rear section (hinge to bogie pivot) below the "
+                                  "horizontal [R: acos(bogie_front / rear_len), the middle axle under the hinge; "
+                                  "the fit gives 0.728]")
     wheel_offset: float = param(0.10, ge=0.0, le=0.3, unit="m", doc="wheel centre offset from its steering axis [R]")
-    pillar_front: float = param(0.25, ge=0.1, le=0.6, unit="m",
-                                doc="front steering joint to axle [R: 250 mm clearance at nominal]")
+    pillar_front: float = param(0.25, ge=0.1, le=1.0, unit="m",
+                                doc="front steering joint to axle [R: 250 mm clearance at nominal; the fit gives "
+                                    "599 mm]")
+    body_drop: float = param(0.0, ge=0.0, le=1.0, unit="m",
+                             doc="the body box's centre below the rocker hinges [R: 0; the fit places the box "
+                                 "for the 250 mm clearance under its higher hinge]")
+    com_x: float = param(0.0, ge=-0.5, le=0.5, unit="m",
+                         doc="the body box's centre (its CoM) ahead of the rocker hinges [R: 0; the fit gives "
+                             "193 mm: the paper's offset between the body's CoM and its centroid]")
     chassis_size: tuple[float, float, float] = param((0.6, 0.35, 0.15), ge=0.05, le=1.5, length=3, unit="m",
                                                      doc="half sizes of the body box [R]")
     chassis_mass: float = param(155.0, gt=0.0, le=1000.0, unit="kg", doc="chassis mass [R: 225 kg in all, S]")
@@ -87,13 +103,17 @@ class RobotConfig:
 
     def __post_init__(self) -> None:
         check_fields(self)
-        if self.bogie_half <= self.wheel_radius:
+        if self.bogie_front + self.bogie_rear <= 2 * self.wheel_radius:
             raise ValueError(
-                f"robot.bogie_half={self.bogie_half!r} is invalid; valid: > wheel_radius "
-                f"{self.wheel_radius} m (the middle and rear wheels would overlap)"
+                f"robot.bogie_front + robot.bogie_rear = {self.bogie_front + self.bogie_rear!r} is invalid; valid: "
+                f"> 2 x wheel_radius = {2 * self.wheel_radius} m (the middle and rear wheels would overlap)"
             )
-        if not (self.rear_len > self.bogie_half):
-            raise ValueError(f"robot.rear_len={self.rear_len!r} is invalid; valid: > bogie_half {self.bogie_half} m")
+        if self.pillar_rear < 0.05:
+            raise ValueError(
+                f"robot.pillar_front={self.pillar_front!r} with front_angle={self.front_angle!r} and "
+                f"rear_angle={self.rear_angle!r} leaves the rear pillars {self.pillar_rear:.3f} m long; valid: "
+                ">= 0.05 m (pillar_front + front_len sin(front_angle) - rear_len sin(rear_angle))"
+            )
         lo, hi = self.rocker_range
         if not lo < 0.0 < hi:
             raise ValueError(f"robot.rocker_range={self.rocker_range!r} is invalid; valid: lower < 0 < upper (rad)")
@@ -101,18 +121,62 @@ class RobotConfig:
     # derived geometry -------------------------------------------------------------
     @property
     def theta_s20(self) -> float:
-        """Nominal angle of the rear section below the horizontal (rad): the bogie pivot sits
-        ``bogie_half`` behind the hinge so the middle wheel is under the hinge."""
-        return math.acos(self.bogie_half / self.rear_len)
+        """Nominal angle of the rear section below the horizontal (rad) (= ``rear_angle``)."""
+        return self.rear_angle
 
     @property
     def pivot_drop(self) -> float:
-        return self.rear_len * math.sin(self.theta_s20)
+        return self.rear_len * math.sin(self.rear_angle)
+
+    @property
+    def front_drop(self) -> float:
+        """Depth of the front steering joint below the hinge at nominal (m)."""
+        return self.front_len * math.sin(self.front_angle)
 
     @property
     def pillar_rear(self) -> float:
         """Middle/rear steering joint to axle (m): all axles at one height at nominal."""
-        return self.pillar_front - self.pivot_drop
+        return self.pillar_front + self.front_drop - self.pivot_drop
+
+    @property
+    def front_reach(self) -> float:
+        """x of the front steering axes ahead of the hinges at nominal (m)."""
+        return self.front_len * math.cos(self.front_angle)
+
+    @property
+    def pivot_back(self) -> float:
+        """x of the bogie pivots behind the hinges at nominal (m)."""
+        return self.rear_len * math.cos(self.rear_angle)
+
+    @property
+    def middle_x(self) -> float:
+        """x of the middle steering axes relative to the hinges at nominal (m; < 0 behind)."""
+        return self.bogie_front - self.pivot_back
+
+    @property
+    def rear_reach(self) -> float:
+        """x of the rear steering axes behind the hinges at nominal (m)."""
+        return self.pivot_back + self.bogie_rear
+
+    @property
+    def wheelbase_fm(self) -> float:
+        """Nominal front-to-middle wheelbase (m) (the normaliser of MC#3)."""
+        return self.front_reach - self.middle_x
+
+    @property
+    def nose(self) -> float:
+        """x of the front wheels' leading edge ahead of the hinges at nominal (m)."""
+        return self.front_reach + self.wheel_radius
+
+    @property
+    def tail(self) -> float:
+        """x of the rear wheels' trailing edge behind the hinges at nominal (m)."""
+        return self.rear_reach + self.wheel_radius
+
+    @property
+    def wheelbase(self) -> float:
+        """Nominal front-to-rear wheelbase (m) [S 1900 mm]."""
+        return self.front_reach + self.rear_reach
 
     @property
     def steer_y(self) -> float:
@@ -121,20 +185,26 @@ class RobotConfig:
 
     @property
     def hinge_height(self) -> float:
-        """Height of the rocker hinges above flat ground at nominal (m) (= chassis centre)."""
-        return self.wheel_radius + self.pillar_front
+        """Height of the rocker hinges (the chassis body's origin) above flat ground at nominal (m)."""
+        return self.wheel_radius + self.pillar_front + self.front_drop
+
+    @property
+    def box_bottom(self) -> float:
+        """Depth of the body box's underside below the hinges (m)."""
+        return self.body_drop + self.chassis_size[2]
 
     @property
     def clearance(self) -> float:
-        return self.hinge_height - self.chassis_size[2]
+        return self.hinge_height - self.box_bottom
 
     @cached_property
     def kernel_lengths(self) -> np.ndarray:
         """The lengths the compiled suspension kernels read, computed once per (frozen) config, in
-        their order: rear_len, front_len, bogie_half, z_ratio, theta_s20, pillar_rear,
-        pillar_front, wheel_offset, steer_y (m, rad)."""
-        return np.array((self.rear_len, self.front_len, self.bogie_half, self.z_ratio, self.theta_s20,
-                         self.pillar_rear, self.pillar_front, self.wheel_offset, self.steer_y), float)
+        their order: rear_len, front_len, bogie_front, z_ratio, theta_s20, pillar_rear,
+        pillar_front, wheel_offset, steer_y, bogie_rear, front_angle (m, rad)."""
+        return np.array((self.rear_len, self.front_len, self.bogie_front, self.z_ratio, self.theta_s20,
+                         self.pillar_rear, self.pillar_front, self.wheel_offset, self.steer_y, self.bogie_rear,
+                         self.front_angle), float)
 
     @property
     def total_mass(self) -> float:
@@ -286,6 +356,7 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
         name=Names.CHASSIS,
         type=mujoco.mjtGeom.mjGEOM_BOX,
         size=[hx, hy, hz],
+        pos=[cfg.com_x, 0, -cfg.body_drop],
         mass=cfg.chassis_mass,
         contype=LINK_BIT,
         conaffinity=0,
@@ -294,7 +365,7 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
     ch.add_geom(
         type=mujoco.mjtGeom.mjGEOM_BOX,
         size=[0.05, 0.05, 0.25],
-        pos=[hx - 0.1, 0, hz + 0.25],
+        pos=[cfg.com_x + hx - 0.1, 0, hz - cfg.body_drop + 0.25],
         mass=0.01,
         contype=0,
         conaffinity=0,
@@ -307,7 +378,7 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
     spec.add_sensor(
         name=Names.GYRO, type=mujoco.mjtSensor.mjSENS_GYRO, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=Names.IMU
     )
-    b, a, bh = cfg.rear_len, cfg.front_len, cfg.bogie_half
+    b, bm, bq = cfg.rear_len, cfg.bogie_front, cfg.bogie_rear
     th0 = cfg.theta_s20
     piv = (-b * math.cos(th0), 0.0, -b * math.sin(th0))
     lat = cfg.steer_y - cfg.hinge_track / 2
@@ -341,17 +412,18 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
             range=[-0.8, 0.8],
             damping=cfg.pivot_damping,
         )
-        _cap(bg, (bh, 0, 0), (-bh, 0, 0), 0.035, 0.7 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
-        _cap(bg, (bh, 0, 0), (bh, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
-        _cap(bg, (-bh, 0, 0), (-bh, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
+        _cap(bg, (bm, 0, 0), (-bq, 0, 0), 0.035, 0.7 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
+        _cap(bg, (bm, 0, 0), (bm, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
+        _cap(bg, (-bq, 0, 0), (-bq, sg * lat, 0), 0.03, 0.15 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])
         mid, rear = ("c3", "c5") if s == "L" else ("c4", "c6")
-        _pillar_and_wheel(bg, mid, (bh, sg * lat, 0), cfg.pillar_rear, cfg, spec)
-        _pillar_and_wheel(bg, rear, (-bh, sg * lat, 0), cfg.pillar_rear, cfg, spec)
+        _pillar_and_wheel(bg, mid, (bm, sg * lat, 0), cfg.pillar_rear, cfg, spec)
+        _pillar_and_wheel(bg, rear, (-bq, sg * lat, 0), cfg.pillar_rear, cfg, spec)
         fr = d.add_body(name=Names.front(s), pos=[0, 0, 0])
         fr.add_joint(name=Names.front(s), type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0], armature=0.5)
-        _cap(fr, (0, 0, 0), (a, 0, 0), 0.04, 0.85 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
-        _cap(fr, (a, 0, 0), (a, sg * lat, 0), 0.03, 0.15 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
-        _pillar_and_wheel(fr, "c1" if s == "L" else "c2", (a, sg * lat, 0), cfg.pillar_front, cfg, spec)
+        fx, fz = cfg.front_reach, -cfg.front_drop
+        _cap(fr, (0, 0, 0), (fx, 0, fz), 0.04, 0.85 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
+        _cap(fr, (fx, 0, fz), (fx, sg * lat, fz), 0.03, 0.15 * cfg.link_mass, [0.2, 0.4, 0.7, 1])
+        _pillar_and_wheel(fr, "c1" if s == "L" else "c2", (fx, sg * lat, fz), cfg.pillar_front, cfg, spec)
         spec.add_equality(
             name=Names.couple(s),
             type=mujoco.mjtEq.mjEQ_JOINT,

@@ -1,0 +1,67 @@
+"""The linkage fit's geometry: the kernel, the MuJoCo model and the fit's targets agree."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from terrabench.systems.srwmr import linkage_fit as lf
+from terrabench.systems.srwmr.kinematics import (
+    axle_positions,
+    chassis_clearance,
+    geometry,
+    level_zeta,
+    rocker_jacobian,
+)
+from terrabench.systems.srwmr.robot import Names, RobotConfig, WHEELS, add_robot
+
+FIT = lf.fitted_robot()
+
+
+@pytest.mark.parametrize("cfg", [RobotConfig(), FIT], ids=["default", "fitted"])
+def test_the_kernel_matches_the_chain_and_its_derivative(cfg):
+    for d in ([0.0, 0.0], [0.3, -0.2], [-0.25, 0.4]):
+        P, J = geometry(cfg, d)
+        np.testing.assert_allclose(P, axle_positions(cfg, d, level_zeta(cfg, d)), atol=1e-12)
+        np.testing.assert_allclose(J, rocker_jacobian(cfg, d), atol=1e-6)
+
+
+def test_the_built_model_puts_the_axles_where_the_kinematics_does():
+    spec = mujoco.MjSpec()
+    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[5, 5, 0.1])
+    add_robot(spec, [0, 0, 2.0], 0.0, FIT)
+    m = spec.compile()
+    d = mujoco.MjData(m)
+    mujoco.mj_kinematics(m, d)
+    ch = d.body(Names.CHASSIS).xpos
+    got = np.array([d.body(Names.wheel(c)).xpos - ch for c in WHEELS])
+    np.testing.assert_allclose(got, axle_positions(FIT, [0.0, 0.0]), atol=1e-9)
+    # the body box's CoM sits com_x ahead of the hinge line
+    box = m.geom(Names.CHASSIS)
+    assert box.pos[0] == pytest.approx(FIT.com_x) and box.pos[2] == pytest.approx(-FIT.body_drop)
+
+
+def test_the_fitted_linkage_keeps_its_stated_geometry():
+    assert FIT.wheelbase == pytest.approx(1.90, abs=0.02)  # [S] 2200 mm with r = 150
+    assert chassis_clearance(FIT, [0.0, 0.0]) == pytest.approx(0.25, abs=1e-9)
+    v = lf.evaluate(FIT)
+    # lowering puts the middle support behind the CoM (rear lift), raising ahead of it (front lift)
+    assert v["middle_ahead_at_150_m"] < -0.03 < 0.03 < v["middle_ahead_at_500_m"]
+    # the default geometry cannot: its middle axle stays within 3 mm of the hinge when lowered
+    d = lf.evaluate(RobotConfig())
+    assert abs(d["middle_ahead_at_150_m"]) < 0.005
+    # the wheel-speed ratio the paper's MC#2 sets is reached within its tolerance band only by the fit
+    assert abs(v["shrink_per_lift"] - 7.0 / 3.6) < 0.15 < abs(d["shrink_per_lift"] - 7.0 / 3.6)
+    assert abs(sum(lf.side_loads(FIT)) - lf.SIDE_WEIGHT) < 1e-9
+
+
+def test_the_fitted_values_are_the_fits_optimum_on_this_code():
+    res = lf.residuals(lf.evaluate(FIT))
+    assert 0.5 * float(res @ res) == pytest.approx(15.57, abs=0.05)
+
+
+@pytest.mark.slow
+def test_a_refit_finds_no_better_geometry():
+    cfg, cost = lf.refit()
+    assert cost >= 15.5

@@ -27,6 +27,7 @@ from terrabench.systems.srwmr.kinematics import delta_for_clearance
 from terrabench.systems.srwmr.layouts import Layout, layout, time_limit
 from terrabench.systems.srwmr.legged import apply_clutch
 from terrabench.systems.srwmr.methods import METHODS
+from terrabench.systems.srwmr.motors import HIT_MRII
 from terrabench.systems.srwmr.robot import (
     LINK_BIT,
     SIDES,
@@ -240,6 +241,8 @@ class SRWMRTask(TaskBase):
         data.ctrl[self.a_rock] = -d0
         self.chassis = model.body(Names.CHASSIS).id
         self._act_force, self._act_vel = data.actuator_force, data.actuator_velocity  # views, fixed buffers
+        self._groups = {"drive": self.a_drive, "steer": self.a_steer, "rocker": self.a_rock}
+        self.energy_elec = 0.0  # J of electrical input (motors.HIT_MRII), summed by power()
         self.obs = Observation(model, data, self.rng)
         self.clutch = (False, False)
         self.x_start = float(data.xpos[self.chassis, 0])
@@ -288,6 +291,10 @@ class SRWMRTask(TaskBase):
         """Electrical power proxy: sum |force x velocity| over the actuators (W), compiled
         (:func:`_abs_power_kernel`, bitwise ``np.abs(force * velocity).sum()``)."""
         f, v = self._act_force, self._act_vel
+        # the loop calls power() once per control period: the electrical input of the named motors
+        # (motors.HIT_MRII: winding loss, no-load current, gear efficiency; no regeneration) is
+        # summed here beside the mechanical figure the loop integrates
+        self.energy_elec += self.timing.control_period * float(HIT_MRII.power_of(f, v, self._groups))
         if f.shape[0] > 128:  # numpy's sum splits in halves there (the kernel does not)
             return float(np.abs(f * v).sum())
         return float(_abs_power_kernel(f, v))
@@ -295,7 +302,9 @@ class SRWMRTask(TaskBase):
     def metrics(self, log) -> dict[str, float]:
         from terrabench.systems.srwmr.metrics import episode_metrics
 
-        return episode_metrics(log, self.x_start, self.z_start)
+        out = episode_metrics(log, self.x_start, self.z_start)
+        out["energy_elec_kJ"] = self.energy_elec / 1000.0
+        return out
 
     def info(self) -> dict:
         return {

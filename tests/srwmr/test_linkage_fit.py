@@ -14,7 +14,7 @@ from terrabench.systems.srwmr.kinematics import (
     level_zeta,
     rocker_jacobian,
 )
-from terrabench.systems.srwmr.robot import Names, RobotConfig, WHEELS, add_robot
+from terrabench.systems.srwmr.robot import WHEELS, Names, RobotConfig, add_robot
 
 FIT = lf.fitted_robot()
 

@@ -221,3 +221,19 @@ def test_the_logging_period_does_not_change_the_motion():
     for col in ("s", "z", "pitch"):
         np.testing.assert_array_equal(fine[col][idx], coarse[col])
     assert runs[0].metrics["energy"] == runs[1].metrics["energy"]
+
+
+def test_the_mechanism_metrics_are_read_off_the_stored_series():
+    """Issue 28's per-trial figures: present, in their ranges, and the extremes of the stored columns."""
+    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1, overrides={"protocol.timeout": 4.0})[0]
+    r = SYSTEM.run_trial(spec)
+    m = r.metrics
+    for k in ("max_pitch_rad", "crawler_load_share_min", "tip_slip_max_m", "tracks_stopped_share", "margin_min_m",
+              "margin_sensed_min_m"):
+        assert k in m, k
+    assert m["max_pitch_rad"] >= abs(m["max_pitch"]) - 1e-9   # the largest |pitch| bounds any pitch extreme
+    assert m["tip_slip_max_m"] >= 0.0
+    share = m["tracks_stopped_share"]
+    assert share != share or 0.0 <= share <= 1.0   # NaN (no walking tick) or a share
+    # standing on flat ground at the start, the robot's own (sensed) margin is positive
+    assert m["margin_sensed_min_m"] > 0.0

@@ -7,6 +7,7 @@ approach axis, the stability margin from MuJoCo contacts, the stop checks.
 
 from __future__ import annotations
 
+import collections
 import math
 from dataclasses import dataclass
 
@@ -28,7 +29,8 @@ from terrabench.terrain.mjcf import GROUND_BIT
 COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "tip_contact",
            "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR",
            "margin_all", "quasi", "track_share", "track_power",
-           "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow")
+           "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow",
+           "margin_sensed", "tip_slip", "track_cmd")
 #: a contact counts in the support polygon if its geom carried this normal force (N) ...
 SUPPORT_LOAD = 20.0
 #: ... within this long (s)
@@ -281,6 +283,7 @@ class OctopusTask(TaskBase):
         self._side_of[self.surf_id] = self.surf_side
         self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
         self._loaded_t = np.full(model.ngeom, -np.inf)
+        self._foot_hist = collections.deque()
         self._f6 = np.zeros(6)
         self._track_force = np.zeros(2)
         self._v = np.zeros(2)
@@ -296,6 +299,12 @@ class OctopusTask(TaskBase):
         self._rot_side = np.ascontiguousarray(self._rot_sel[0])
         self._rot_gain = np.ascontiguousarray(self._rot_sel[1], dtype=float)
         self._sample = (float("nan"),) * 5
+        # the sensed margin's points: the four track pulleys (the track footprint's ends)
+        self._foot = np.array([model.geom(nm).id for side in Names.SIDES
+                               for nm in Names.track_geoms(side) if not nm.endswith("_run")])
+        # tip slip: where each tip's current contact run (support phase) began, NaN out of contact
+        self._tip_start = np.full((len(ARMS), 3), np.nan)
+        self._mech = (float("nan"),) * 3
         self.apply_tracks(np.zeros(2))
         return self.obs
 
@@ -403,10 +412,17 @@ class OctopusTask(TaskBase):
                  abs(total - self._weight) < QS_LOAD * self._weight)
         pts = d.contact.pos[:n][sel, :2]
         cog = d.subtree_com[self.chassis, :2]
+        # the footprint: the ground points of the contacts that carried > SUPPORT_LOAD N on the
+        # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
+        # along its length, but MuJoCo reports a few chattering points of it at any one instant)
+        hist = self._foot_hist
+        hist.append((t, pts[fn > SUPPORT_LOAD].copy()))
+        while hist and t - hist[0][0] > SUPPORT_MEMORY + 1e-9:
+            hist.popleft()
         # the static margin at quasi-static instants, the margin over every contact at the others
         if quasi:
-            keep = (t - self._loaded_t[rg]) <= SUPPORT_MEMORY
-            m_load, m_all = (stability_margin(pts[keep], cog) if keep.any() else nan), nan
+            foot = np.vstack([p for _, p in hist])
+            m_load, m_all = (stability_margin(foot, cog) if len(foot) else nan), nan
         else:
             m_load, m_all = nan, stability_margin(pts, cog)
         share = on_crawlers / total if total > 0 else nan
@@ -483,6 +499,7 @@ class OctopusTask(TaskBase):
         z = float(self.data.xpos[self.chassis, 2])
         if cmd is None or self._row_k % self._row_stride == 0:
             self._sample, self._tips = self.sample(), float(self.tip_contacts())
+            self._mech = self._mechanism(int(self._tips), cmd)
         self._row_k += 1
         m_load, m_all, quasi, share, tpow = self._sample
         # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
@@ -492,7 +509,38 @@ class OctopusTask(TaskBase):
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
                 0.5 * (qf[0] + qf[1]), 0.5 * (qf[2] + qf[3]),
                 te[0], te[1], te[2], te[3],
-                m_all, quasi, share, tpow, *qa[1], *qa[3])
+                m_all, quasi, share, tpow, *qa[1], *qa[3], *self._mech)
+
+    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float]:
+        """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
+        tip drift within the current support phases (m), the commanded crawler speed (m/s)).
+
+        The sensed margin is the one the robot can compute itself: the supporting tips (those
+        whose foot switch, the tip-contact bit, is on) by forward kinematics plus the track
+        footprint (the four track pulley centres), levelled by the IMU, about the COG of the
+        robot's own mass model. Levelling by
+        roll and pitch leaves only the yaw, which does not change distances, so its horizontal
+        geometry is that of the same points' world x, y (the model's frames are the FK of the
+        encoder angles). A support phase is a run of stored rows with the tip in contact; the
+        drift is the 3-D distance of the tip from where the run began.
+        """
+        d = self.data
+        keep = [i for i in range(len(ARMS)) if tips >> i & 1]
+        pts = np.vstack((d.geom_xpos[self.tip_geoms[keep], :2], d.geom_xpos[self._foot, :2]))
+        sensed = stability_margin(pts, d.subtree_com[self.chassis, :2])
+        tp = d.geom_xpos[self.tip_geoms]
+        st = self._tip_start
+        drift = 0.0
+        for i in range(len(ARMS)):
+            if tips >> i & 1:
+                if np.isnan(st[i, 0]):
+                    st[i] = tp[i]
+                else:
+                    drift = max(drift, float(np.linalg.norm(tp[i] - st[i])))
+            else:
+                st[i] = np.nan
+        v = float(np.max(np.abs(cmd.track))) if cmd is not None else float("nan")
+        return float(sensed), drift, v
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
@@ -520,7 +568,8 @@ class OctopusTask(TaskBase):
         events = int(np.sum(dyn[1:] & ~dyn[:-1]) + (dyn[0] if len(dyn) else 0))
         tp = log.column("track_power")
         md = m_all[~quasi]
-        return {
+        mech = self._mechanism_metrics(log, idx, pitch, margin[quasi], share)
+        return {**mech,
             "max_pitch": float(pitch[ip]), "max_roll": float(roll[ir]),
             "min_margin": float(mq.min()) if len(mq) else float("nan"),
             "quasi_frac": float(quasi.mean()) if len(quasi) else float("nan"),
@@ -529,6 +578,32 @@ class OctopusTask(TaskBase):
             "track_share": float(np.nanmean(share)) if np.isfinite(share).any() else float("nan"),
             "progress": float(s[-1] - s[0]), "energy": log.energy,
             "track_energy": float(np.nansum(tp) * log.period),
+        }
+
+    def _mechanism_metrics(self, log, idx, pitch, m_static, share) -> dict[str, float]:
+        """The climb-mechanism figures (issue 28) on the stored rows after the first second:
+        ``max_pitch_rad`` (largest |pitch|), ``crawler_load_share_min`` (the crawlers' least share
+        of the normal load over the climb rows: CLM climb/release, CCM press/push/flatten),
+        ``tip_slip_max_m`` (largest tip drift within one support phase), ``tracks_stopped_share``
+        (share of CLM walking rows with the crawlers commanded < 1 mm/s; NaN for CCM, which has
+        no walk), ``margin_min_m`` (the static margin, as ``min_margin``) and
+        ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`)."""
+        from terrabench.systems.octopus import ccm, clm
+
+        nan = float("nan")
+        mode = log.column("mode")[idx]
+        climb_modes = {"clm": (clm.CLIMB, clm.RELEASE), "ccm": (ccm.PRESS, ccm.PUSH, ccm.FLATTEN)}.get(self.method, ())
+        climb = np.isin(mode, climb_modes) & np.isfinite(share)
+        slip, sensed, vcmd = (log.column(c)[idx] for c in ("tip_slip", "margin_sensed", "track_cmd"))
+        walk = mode == clm.WALK if self.method == "clm" else np.zeros(len(mode), bool)
+        fin = lambda a, f: float(f(a[np.isfinite(a)])) if np.isfinite(a).any() else nan  # noqa: E731
+        return {
+            "max_pitch_rad": fin(np.abs(pitch), np.max),
+            "crawler_load_share_min": float(share[climb].min()) if climb.any() else nan,
+            "tip_slip_max_m": fin(slip, np.max),
+            "tracks_stopped_share": float(np.mean(vcmd[walk] < 1e-3)) if walk.any() else nan,
+            "margin_min_m": fin(m_static, np.min),
+            "margin_sensed_min_m": fin(sensed, np.min),
         }
 
     def info(self) -> dict:

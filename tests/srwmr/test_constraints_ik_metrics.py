@@ -122,3 +122,15 @@ def test_each_term_s_qp_rows_and_ratio_are_one_definition():
         checked.append(c.name)
     assert checked == ["MC6", "MC7", "MC8", "MC9"]
     assert [c.name for c in mc.CONSTRAINTS if c.halts] == ["MC4", "MC5", "MC10", "MC11"]
+
+
+def test_the_limited_share_counts_the_periods_the_projection_changed():
+    ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
+    st = IKState(np.array([0.2, 0.2]), np.array([0.015, 0, 0.0, 0.0, 0.0]))
+    inside = np.array([0.015, 0.0, 0.0, 0.0, 0.0])  # the previous command again: inside the set
+    outside = np.array([0.05, 0.0, 0.02, 0.03, 0.03])  # a jump the rate rows must cut
+    for u in (inside, inside, inside, outside):
+        ik.solve(u, st, mc.thresholds("RCLM"))
+    t = ik.timing()
+    assert t["qp_inside"] == 3 and t["qp_n"] == 1
+    assert t["qp_limited_share"] == pytest.approx(ik.active / 4) and ik.active == 1

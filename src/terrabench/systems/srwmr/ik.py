@@ -199,13 +199,21 @@ class SaturatedIK:
         return np.asarray(u, float)
 
     def timing(self) -> dict[str, float]:
+        """Solve statistics: ``qp_n`` solver calls (the nominal command was outside the set),
+        ``qp_inside`` periods already inside, ``qp_active_share`` of the calls that changed the
+        command, and ``qp_limited_share``: of all periods, those where the projection changed the
+        command (the constraint-saturated IK at work)."""
         t = np.asarray(self.times) * 1e6
+        periods = len(t) + self.inside
+        limited = self.active / periods if periods else 0.0
         if not len(t):
-            return {"qp_n": 0, "qp_inside": self.inside, "qp_median_us": float("nan"), "qp_p99_us": float("nan")}
+            return {"qp_n": 0, "qp_inside": self.inside, "qp_median_us": float("nan"), "qp_p99_us": float("nan"),
+                    "qp_limited_share": limited}
         return {
             "qp_n": int(len(t)),
             "qp_inside": self.inside,
             "qp_median_us": float(np.median(t)),
             "qp_p99_us": float(np.percentile(t, 99)),
             "qp_active_share": self.active / len(t),
+            "qp_limited_share": limited,
         }

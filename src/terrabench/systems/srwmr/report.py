@@ -57,6 +57,15 @@ def _mean(rs, key):
     return float(a.mean()) if len(a) else float("nan")
 
 
+def _limited(info) -> float | None:
+    """The limited share from an older row's counts (solves that changed the command over all
+    periods), for stores made before ``qp_limited_share`` was stored."""
+    n, inside, share = info.get("qp_n"), info.get("qp_inside"), info.get("qp_active_share")
+    if n is None or inside is None or share is None or n + inside == 0:
+        return None
+    return share * n / (n + inside)
+
+
 def group(rows):
     out: dict[tuple[str, str], list] = {}
     for r in rows:
@@ -274,7 +283,9 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
             "solves": r["info"].get("qp_n"),
             "median us": r["info"].get("qp_median_us"),
             "p99 us": r["info"].get("qp_p99_us"),
-            "active share": r["info"].get("qp_active_share"),
+            "active share": r["info"].get("qp_active_share"),  # of the solves
+            # of all control periods: the periods where the projection changed the command
+            "limited share": r["info"].get("qp_limited_share", _limited(r["info"])),
         }
         for r in task_rows
     ]

@@ -147,6 +147,13 @@ def _qp_kernel(J, d, wb, dz, kappa, u_prev, u_nom, k, G, h, lb, ub):
     return where
 
 
+def limited_share(solves: int, inside: int, changed: int) -> float:
+    """Of all control periods (``solves`` solver calls + ``inside`` periods already feasible), the
+    share in which the projection changed the command (``changed`` of the calls)."""
+    periods = solves + inside
+    return changed / periods if periods else 0.0
+
+
 class SaturatedIK:
     """The per-step projection; keeps solve-time statistics (``times`` in seconds)."""
 
@@ -204,8 +211,7 @@ class SaturatedIK:
         command, and ``qp_limited_share``: of all periods, those where the projection changed the
         command (the constraint-saturated IK at work)."""
         t = np.asarray(self.times) * 1e6
-        periods = len(t) + self.inside
-        limited = self.active / periods if periods else 0.0
+        limited = limited_share(len(t), self.inside, self.active)
         if not len(t):
             return {"qp_n": 0, "qp_inside": self.inside, "qp_median_us": float("nan"), "qp_p99_us": float("nan"),
                     "qp_limited_share": limited}

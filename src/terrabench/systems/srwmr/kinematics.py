@@ -46,7 +46,7 @@ def axle_positions(cfg: RobotConfig, delta, zeta=(0.0, 0.0), phi=(0.0, 0.0), mu=
     delta, zeta, phi = np.asarray(delta, float), np.asarray(zeta, float), np.asarray(phi, float)
     mu = np.zeros(6) if mu is None else np.asarray(mu, float)
     b, z = cfg.rear_len, cfg.z_ratio
-    th0 = cfg.theta_s20
+    th0 = cfg.rear_angle
     e = cfg.wheel_offset * _SIGN
     lat = cfg.steer_y - cfg.hinge_track / 2
     out = np.empty((6, 3))
@@ -76,7 +76,7 @@ def geometry(cfg: RobotConfig, delta, mu=None) -> tuple[np.ndarray, np.ndarray]:
     :func:`axle_positions` / :func:`rocker_jacobian` (tested), from the one compiled kernel
     (:func:`period_geometry`).
 
-    Rear side: the pivot sits at angle theta_s20 + delta below the hinge, the level bogie carries
+    Rear side: the pivot sits at angle rear_angle (theta_s20) + delta below the hinge, the level bogie carries
     the pillars (``bogie_front`` ahead of the pivot, ``bogie_rear`` behind); front: the section,
     ``front_angle`` below the horizontal at nominal, turned by z delta carries its pillar.
     """

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from terrabench.systems.srwmr.ik import limited_share
+
 #: the paper's figures [S] (compare trends and orderings; its energy units are inconsistent)
 PAPER = {
     ("t1-very-loose", "wrm"): "s_b 0.30-0.65",
@@ -58,12 +60,14 @@ def _mean(rs, key):
 
 
 def _limited(info) -> float | None:
-    """The limited share from an older row's counts (solves that changed the command over all
-    periods), for stores made before ``qp_limited_share`` was stored."""
+    """``qp_limited_share`` as stored, or (rows made before it was) from the row's counts by the
+    same :func:`~terrabench.systems.srwmr.ik.limited_share`."""
+    if "qp_limited_share" in info:
+        return info["qp_limited_share"]
     n, inside, share = info.get("qp_n"), info.get("qp_inside"), info.get("qp_active_share")
-    if n is None or inside is None or share is None or n + inside == 0:
+    if n is None or inside is None or share is None:
         return None
-    return share * n / (n + inside)
+    return limited_share(n, inside, round(share * n))
 
 
 def group(rows):
@@ -285,7 +289,7 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
             "p99 us": r["info"].get("qp_p99_us"),
             "active share": r["info"].get("qp_active_share"),  # of the solves
             # of all control periods: the periods where the projection changed the command
-            "limited share": r["info"].get("qp_limited_share", _limited(r["info"])),
+            "limited share": _limited(r["info"]),
         }
         for r in task_rows
     ]

@@ -120,11 +120,6 @@ class RobotConfig:
 
     # derived geometry -------------------------------------------------------------
     @property
-    def theta_s20(self) -> float:
-        """Nominal angle of the rear section below the horizontal (rad) (= ``rear_angle``)."""
-        return self.rear_angle
-
-    @property
     def pivot_drop(self) -> float:
         return self.rear_len * math.sin(self.rear_angle)
 
@@ -200,9 +195,9 @@ class RobotConfig:
     @cached_property
     def kernel_lengths(self) -> np.ndarray:
         """The lengths the compiled suspension kernels read, computed once per (frozen) config, in
-        their order: rear_len, front_len, bogie_front, z_ratio, theta_s20, pillar_rear,
+        their order: rear_len, front_len, bogie_front, z_ratio, rear_angle, pillar_rear,
         pillar_front, wheel_offset, steer_y, bogie_rear, front_angle (m, rad)."""
-        return np.array((self.rear_len, self.front_len, self.bogie_front, self.z_ratio, self.theta_s20,
+        return np.array((self.rear_len, self.front_len, self.bogie_front, self.z_ratio, self.rear_angle,
                          self.pillar_rear, self.pillar_front, self.wheel_offset, self.steer_y, self.bogie_rear,
                          self.front_angle), float)
 
@@ -379,7 +374,7 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
         name=Names.GYRO, type=mujoco.mjtSensor.mjSENS_GYRO, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=Names.IMU
     )
     b, bm, bq = cfg.rear_len, cfg.bogie_front, cfg.bogie_rear
-    th0 = cfg.theta_s20
+    th0 = cfg.rear_angle
     piv = (-b * math.cos(th0), 0.0, -b * math.sin(th0))
     lat = cfg.steer_y - cfg.hinge_track / 2
     for s in SIDES:

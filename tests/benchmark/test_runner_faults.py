@@ -315,3 +315,33 @@ def test_sigterm_keeps_finished_trials_kills_the_workers_and_exits_130(tmp_path)
     with ResultsStore(store, read_only=True) as st:
         rows = st.rows()
     assert 1 <= len(rows) < 6 and "error" not in {r["status"] for r in rows}
+
+
+def test_an_interrupt_during_a_store_write_waits_for_the_commit(tmp_path):
+    # DuckDB turns a KeyboardInterrupt raised inside its execute into an InterruptException (an
+    # Exception), which the pool once swallowed as "a dead worker", losing the trial and the stop
+    import signal
+
+    spec = TrialSpec("mrs-cwc", "A", "cwc-tdt", "A-01", 0, {})
+    with ResultsStore(tmp_path / "s.duckdb") as st:
+        old = signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt))
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                with runner._interrupts_deferred():
+                    os.kill(os.getpid(), signal.SIGTERM)  # pending, not delivered
+                    st.write(spec, TrialResult("success", wall_time=1.0, metrics={"x": 1.0}))
+        finally:
+            signal.signal(signal.SIGTERM, old)
+        assert [r["status"] for r in st.rows()] == ["success"]  # committed before the stop
+
+
+def test_a_store_error_in_the_pool_is_raised_not_taken_for_a_dead_worker(plugin):
+    from terrabench.benchmark.pool import run_pool
+
+    spec = TrialSpec("mrs-cwc", "A", "cwc-tdt", "A-01", 0, {"sim": {"timeout": 0.2}})
+
+    def land(spec, result):
+        raise RuntimeError("disk full")
+
+    with pytest.raises(RuntimeError, match="disk full"):
+        run_pool([spec], land, 1, lambda s: 120.0, RunSummary(1, 0))

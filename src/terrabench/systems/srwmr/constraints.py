@@ -129,18 +129,22 @@ class Scales:
 #: wheel-only modes ramps the speed over ~5 s (0.01 of max(|v|, 5 mm/s) per 10 ms step): the paper's
 #: speed transitions took "approximately 4 s" (Task 8).
 THRESHOLDS: dict[str, tuple[float, ...]] = {
+    # MC3's eta is normalised by the nominal front-middle wheelbase (948 mm on the fitted linkage);
+    # each kappa keeps the least wheelbase the earlier calibration allowed on the 775 mm one:
+    # WRM/WCM 310 mm (0.67), RCLM 372 mm (0.61), RCM 426 mm (0.55)
     #        MC2  MC3   MC4  MC5  MC6  MC7  MC8  MC9  MC10  MC11
-    "WRM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
-    "WCM": (INF, 0.60, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
-    # RCLM MC3 0.52: Task 10 raised the chassis to 550 mm, which here shortens the front-middle
-    # wheelbase to 387 mm (eta 0.50); the wheels touch at 350 mm (eta 0.55)
-    "RCLM": (1.0, 0.52, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
-    "RCM": (1.0, 0.45, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
+    "WRM": (INF, 0.67, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
+    "WCM": (INF, 0.67, 1.0, 1.0, INF, 0.01, 0.6, 1.0, 1.0, 1.0),
+    # RCLM MC3 0.61: Task 10 raises the chassis to 550 mm, which the fitted linkage cannot reach (534
+    # mm at most); its highest T10 height, 480 mm, shortens the wheelbase to 432 mm (eta 0.54)
+    "RCLM": (1.0, 0.61, 0.5, 0.5, 0.9, 0.3, 0.5, 0.6, 1.0, 1.0),
+    "RCM": (1.0, 0.55, 0.5, 0.5, INF, 0.3, 0.5, 0.6, 1.0, 1.0),
     # SWLM / DWLM: MC10 W_diff <= 1100 N / 1300 N [S Tasks 6, 7], MC11 W_fmr <= 700 N [S]; MC5 not
     # monitored (lifting one side's wheel changes that side's wheelbase by design); MC4 is measured
-    # from the IMU roll in these modes (control.py)
-    "SWLM": (1.0, 0.45, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
-    "DWLM": (1.0, 0.45, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1300 / 1300, 1.0),
+    # from the IMU roll in these modes (control.py); MC3 0.66 admits the front CoM shift's posture
+    # (500 mm: the front and middle tyres 35 mm apart on the fitted linkage, eta 0.65)
+    "SWLM": (1.0, 0.66, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1100 / 1300, 1.0),
+    "DWLM": (1.0, 0.66, 0.5, INF, 0.9, 0.3, 0.5, 0.6, 1300 / 1300, 1.0),
 }
 MODES = tuple(THRESHOLDS)
 #: modes whose QP drops the symmetric-lift posture rows MC#4, MC#5, MC#9: with a clutch engaged the

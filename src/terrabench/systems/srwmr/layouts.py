@@ -38,8 +38,10 @@ T9_B = (3.0, 2.0)
 T9_OBSTACLE_X = 2.8
 #: T9 WRM path: a straight start, a 45 deg left arc of this radius (m), then straight to B
 T9_RADIUS = 2.0
-#: T10 chassis heights (m), held and changed in this order [S Task 10: 250, 450, 150, 550, 250 mm]
-T10_HEIGHTS = (0.25, 0.45, 0.15, 0.55, 0.25)
+#: T10 chassis heights (m), held and changed in this order [S Task 10: 250, 450, 150, 550, 250 mm;
+#: the fitted linkage reaches 534 mm at most and RCLM's MC#3 stops it near 490 mm (docs/srwmr.md,
+#: "Linkage fit"), so 480 (T3's height) for 550]
+T10_HEIGHTS = (0.25, 0.45, 0.15, 0.48, 0.25)
 #: T10 distance driven at each held height (m) [R]
 T10_HOLD = 0.45
 #: T15 yaw rates (rad/s) [S 0.02, 0.03] and the clearances the chassis is lowered between (m) [R]
@@ -372,9 +374,12 @@ def _t15(b: Build) -> Layout:
 
 
 # ---------------------------------------------------------------------------- wheel-legged tasks
-#: T6 brick pile (m): length along x, width, height [S height 150 mm; R: one brick length 240 mm,
-#: 300 mm wide under the right wheels' track]; T7 stair step height (m) [R: the T6 pile height]
-T6_PILE = (0.24, 0.30, 0.15)
+#: T6 brick pile (m): length along x, width, height [S height 150 mm; R: bricks laid crosswise, one
+#: brick width (115 mm) along x, 300 mm wide under the right wheels' track: with a brick length (240
+#: mm) along x the fitted linkage's middle wheel, once the front one is down past the pile and the
+#: chassis back at 250 mm, would already stand on the pile]; T7 stair step height (m) [R: the T6 pile
+#: height]
+T6_PILE = (0.115, 0.30, 0.15)
 T7_STEP = 0.15
 #: wheel lift heights (m): T6 and T7 180 mm [S Task 6 "lift the front wheel 180 mm"]; T14 the
 #: obstacle height plus the 30 mm T6 keeps over its pile [R]

@@ -25,6 +25,7 @@ import numpy as np
 
 from terrabench.systems.srwmr.kinematics import (
     axle_positions,
+    chassis_clearance,
     delta_for_clearance,
     level_zeta,
     period_geometry,
@@ -84,19 +85,45 @@ TARGETS = (
     Target("pitch_per_lift", 0.0, 0.5, "eq",
            "[R] the angle-adjusting gear z is there to lift the body level; rad of pitch per m of lift"),
     Target("hinge_height_m", 0.80, 0.05, "le", "[R] a hinge at most 0.8 m up (the body box sits below it)"),
+    Target("clearance_max_m", 0.55, 0.01, "ge",
+           "'clearance 250 mm (150-550 mm in tests)' [S spec]: T10 lifts the chassis to 550 mm, T3 to 480 mm; "
+           "the largest clearance the linkage reaches at any closing angle"),
+
+    Target("fm_at_500_m", 0.35, 0.02, "ge",
+           "[R] the front and middle wheels do not touch at the front CoM-shift clearance (500 mm; Task 6 "
+           "'lifted to align the CoM at the rear part'): MC#3's least wheelbase, 2 r + 50 mm"),
 )
+#: closing angles (rad) searched for the linkage's largest clearance
+_CLOSING = np.linspace(-0.6, 1.5, 43)
 
 
-#: the fit's result (``--refit`` on this code, cost 15.57); not yet the default geometry: every
-#: srwmr result would move and has not been re-run on it (docs/srwmr.md, "Linkage fit")
+#: the fit's result (``--refit`` on this code, cost 33.04): the default geometry of
+#: :class:`~terrabench.systems.srwmr.robot.RobotConfig` (docs/srwmr.md, "Linkage fit")
 FITTED = {
-    "front_angle": 0.0864,
-    "rear_angle": 0.7283,
-    "bogie_front": 0.1600,
-    "bogie_rear": 0.8223,
-    "pillar_front": 0.5991,
-    "com_x": 0.1931,
+    "front_angle": 0.2106,
+    "rear_angle": 0.2909,
+    "bogie_front": 0.1842,
+    "bogie_rear": 0.7649,
+    "pillar_front": 0.6000,
+    "com_x": 0.0228,
 }
+
+
+#: the geometry before the fit (results up to issue 27): the middle axle under the rocker hinge,
+#: the body box centred on the hinges, sections level / 7.3 deg down
+EARLIER = {
+    "front_angle": 0.0,
+    "rear_angle": math.acos(0.3875 / 0.3907),
+    "bogie_front": 0.3875,
+    "bogie_rear": 0.3875,
+    "pillar_front": 0.25,
+    "com_x": 0.0,
+}
+
+
+def earlier_robot(base: RobotConfig | None = None) -> RobotConfig:
+    """``base`` with the geometry the results before the fit were made on (:data:`EARLIER`)."""
+    return dataclasses.replace(RobotConfig() if base is None else base, **EARLIER, body_drop=0.0)
 
 
 def fitted_robot(base: RobotConfig | None = None) -> RobotConfig:
@@ -135,11 +162,15 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
     d480 = delta_for_clearance(cfg, 0.48)
     wb480 = float(wheelbase_front_middle(cfg, [d480, d480])[0])
 
+    d500 = delta_for_clearance(cfg, 0.50)
+    wb500 = float(wheelbase_front_middle(cfg, [d500, d500])[0])
+
     def middle_x(clear: float) -> float:
         d = delta_for_clearance(cfg, clear)
         return float(axle_positions(cfg, [d, d], level_zeta(cfg, [d, d]))[2, 0]) - cfg.com_x
 
     loads = side_loads(cfg)
+    cmax = max(chassis_clearance(cfg, [d, d]) for d in _CLOSING)
     front_rise, rear_rise = -J[0, 2], -J[2, 2]
     return {
         "wheelbase_m": float(p[0, 0] - p[4, 0]),
@@ -152,6 +183,8 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
         "w_diff_nominal_N": float(loads.max() - loads.min()),
         "pitch_per_lift": float((front_rise - rear_rise) / (p[0, 0] - p[2, 0]) / rise),
         "hinge_height_m": cfg.hinge_height,
+        "clearance_max_m": float(cmax),
+        "fm_at_500_m": wb500,
         "middle_per_lift": float(J[2, 0] / rise),
         "fm_m": float(fm),
         "mr_m": float(mr),
@@ -224,9 +257,10 @@ def table(cfg: RobotConfig) -> str:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--refit", action="store_true", help="run the least-squares fit again and print its values")
-    ap.add_argument("--default", action="store_true", help="the table for the default geometry, not the fitted one")
+    ap.add_argument("--earlier", action="store_true",
+                    help="the table for the geometry before the fit (EARLIER), not the fitted default")
     a = ap.parse_args(argv)
-    cfg = RobotConfig() if a.default else fitted_robot()
+    cfg = earlier_robot() if a.earlier else fitted_robot()
     if a.refit:
         cfg, cost = refit(cfg)
         print(f"refit cost {cost:.3f}")

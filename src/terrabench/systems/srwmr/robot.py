@@ -53,28 +53,27 @@ class RobotConfig:
     hinge_track: float = param(0.83, ge=0.3, le=1.5, unit="m", doc="d_b, left-right rocker hinge distance [S 830 mm]")
     front_len: float = param(0.775, ge=0.3, le=1.5, unit="m", doc="d_r21, hinge to front steering axis [S 775 mm]")
     rear_len: float = param(0.3907, ge=0.2, le=1.0, unit="m", doc="d_r22, hinge to bogie pivot [S 390.7 mm]")
-    bogie_front: float = param(0.3875, ge=0.05, le=1.2, unit="m",
-                               doc="bogie pivot to the middle steering axis [R: 775/2, front-middle = "
-                                   "middle-rear = 775 mm; the linkage fit gives 160 mm, docs/srwmr.md]")
-    bogie_rear: float = param(0.3875, ge=0.05, le=1.5, unit="m",
-                              doc="bogie pivot to the rear steering axis [R: 775/2; the fit gives 822 mm]")
-    front_angle: float = param(0.0, ge=0.0, le=1.3, unit="rad",
-                               doc="nominal angle of the front section below the horizontal [R: level; the fit "
-                                   "gives 0.086]")
-    rear_angle: float = param(math.acos(0.3875 / 0.3907), ge=0.0, le=1.45, unit="rad",
+    bogie_front: float = param(0.1842, ge=0.05, le=1.2, unit="m",
+                               doc="bogie pivot to the middle steering axis [F: the linkage fit, docs/srwmr.md; "
+                                   "the earlier 775/2 kept the middle axle under the hinge]")
+    bogie_rear: float = param(0.7649, ge=0.05, le=1.5, unit="m",
+                              doc="bogie pivot to the rear steering axis [F: the linkage fit; earlier 775/2]")
+    front_angle: float = param(0.2106, ge=0.0, le=1.3, unit="rad",
+                               doc="nominal angle of the front section below the horizontal [F: the linkage fit; "
+                                   "earlier level]")
+    rear_angle: float = param(0.2909, ge=0.0, le=1.45, unit="rad",
                               doc="nominal angle theta_s20 of the rear section (hinge to bogie pivot) below the "
-                                  "horizontal [R: acos(bogie_front / rear_len), the middle axle under the hinge; "
-                                  "the fit gives 0.728]")
+                                  "horizontal [F: the linkage fit; earlier acos(387.5 / 390.7), the middle axle "
+                                  "under the hinge]")
     wheel_offset: float = param(0.10, ge=0.0, le=0.3, unit="m", doc="wheel centre offset from its steering axis [R]")
-    pillar_front: float = param(0.25, ge=0.1, le=1.0, unit="m",
-                                doc="front steering joint to axle [R: 250 mm clearance at nominal; the fit gives "
-                                    "599 mm]")
-    body_drop: float = param(0.0, ge=0.0, le=1.0, unit="m",
-                             doc="the body box's centre below the rocker hinges [R: 0; the fit places the box "
-                                 "for the 250 mm clearance under its higher hinge]")
-    com_x: float = param(0.0, ge=-0.5, le=0.5, unit="m",
-                         doc="the body box's centre (its CoM) ahead of the rocker hinges [R: 0; the fit gives "
-                             "193 mm: the paper's offset between the body's CoM and its centroid]")
+    pillar_front: float = param(0.6000, ge=0.1, le=1.0, unit="m",
+                                doc="front steering joint to axle [F: the linkage fit; earlier 250 mm]")
+    body_drop: float = param(0.512011, ge=0.0, le=1.0, unit="m",
+                             doc="the body box's centre below the rocker hinges [F: derived by the fit, the box "
+                                 "placed for the 250 mm clearance under the higher hinge; earlier 0]")
+    com_x: float = param(0.0228, ge=-0.5, le=0.5, unit="m",
+                         doc="the body box's centre (its CoM) ahead of the rocker hinges [F: the linkage fit, "
+                             "the paper's offset between the body's CoM and its centroid; earlier 0]")
     chassis_size: tuple[float, float, float] = param((0.6, 0.35, 0.15), ge=0.05, le=1.5, length=3, unit="m",
                                                      doc="half sizes of the body box [R]")
     chassis_mass: float = param(155.0, gt=0.0, le=1000.0, unit="kg", doc="chassis mass [R: 225 kg in all, S]")

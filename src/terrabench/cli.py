@@ -8,6 +8,7 @@ traceback; nothing already stored is touched.
 from __future__ import annotations
 
 import functools
+import math
 import os
 import signal
 from pathlib import Path
@@ -267,6 +268,35 @@ def run(
                           "reasons above); run the same command to retry them.")
         raise typer.Exit(1)
 
+def _clip_window(sysobj, spec, start, span, at, store) -> tuple[float, float | None]:
+    """(first frame s, length s or None = to the end) of a clip from ``--start``/``--span``/``--at``."""
+    for name, v in (("--start", start), ("--span", span)):
+        if v is not None and not (math.isfinite(v) and v >= (0.0 if name == "--start" else 1e-9)):
+            raise ValueError(f"{name} must be a finite number of seconds {'>= 0' if name == '--start' else '> 0'}, "
+                             f"got {v}")
+    if at is None:
+        return (start or 0.0), span
+    if start is not None:
+        raise ValueError("--at and --start both place the clip; give one")
+    from terrabench.benchmark.store import ResultsStore
+
+    if not store.exists():
+        raise ValueError(f"--at {at!r} reads the stored trial, but the store {store} does not exist; run it first "
+                         f"(terrabench run {sysobj.id} --methods {spec.method} --terrains {spec.instance} "
+                         f"--store {store})")
+    with ResultsStore(store, read_only=True) as st:
+        rows = st.rows(keys=[spec.key])
+        if not rows:
+            raise ValueError(f"--at {at!r}: {spec.method} on {spec.instance} seed {spec.seed} with this config is not "
+                             f"in {store}; run it first (terrabench run {sysobj.id} --methods {spec.method} "
+                             f"--terrains {spec.instance} --store {store})")
+        events = sysobj.clip_events(rows[0], st.timeseries(spec.key))
+    if at not in events:
+        raise ValueError(f"--at {at!r} is not an event of this trial; valid: {', '.join(sorted(events))}")
+    length = 60.0 if span is None else span
+    return max(0.0, events[at] - 0.25 * length), length
+
+
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
@@ -453,6 +483,12 @@ def render(
     fps: float = typer.Option(30.0, help="frames per simulated second"),
     width: int = typer.Option(640, help="frame width (pixels)"),
     height: int = typer.Option(480, help="frame height (pixels)"),
+    start: Optional[float] = typer.Option(None, help="first frame at this simulated time (s; default 0)"),
+    span: Optional[float] = typer.Option(None, help="simulated seconds to render (default: to the end; "
+                                                     "with --at, 60)"),
+    at: Optional[str] = typer.Option(None, help="cut the clip at a named event of the stored trial (a quarter "
+                                               "of --span before it), e.g. lift, switch; needs the trial in --store"),
+    store: Path = typer.Option(DEFAULT_STORE, help="DuckDB results file --at reads the trial's series from"),
 ) -> None:
     """Render one trial (the benchmark's own episode) to a clip from a camera following the robot."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
@@ -488,13 +524,18 @@ def render(
     _limit_overrides(sysobj, overrides, timeout=timeout)
     spec = sysobj.plan(methods=None if method is None else [method], instances=[terrain], seeds=seed + 1,
                        overrides=overrides)[-1]
+    first, length = _clip_window(sysobj, spec, start, span, at, store)
+    if length is not None:
+        from terrabench.report.page import cut_at
+
+        spec = cut_at(sysobj, spec, first + length)
     from terrabench.report.render import render_trial
 
     with Progress(TextColumn("rendering"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                   console=console) as bar:
         job = bar.add_task("frames", total=None)
         result = render_trial(sysobj, spec, out, fps=fps, width=width, height=height, overlay=sysobj.render_overlay,
-                              progress=lambda done, total: bar.update(job, completed=done, total=total))
+                              progress=lambda done, total: bar.update(job, completed=done, total=total), start=first)
     console.print(f"wrote {result['path']} ({result['frames']} frames, {result['sim_time']:.2f} simulated s, "
                   f"status {result['status']}); render speed {result['fps_rendered']:.1f} frames/s "
                   f"at {width}x{height}", highlight=False)

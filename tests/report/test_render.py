@@ -160,3 +160,44 @@ def test_page_clip_cuts_the_episode_and_shows_a_video(tmp_path, monkeypatch):
     page = Page(tmp_path / "nogl", "clip")
     assert page.clip("c.mp4", "a clip", SYSTEM, long, 0.5, every=10, width=W, height=H) is False
     assert "Clip skipped: no headless OpenGL" in page.finish().read_text()
+
+
+def test_a_clip_from_a_start_time_keeps_only_its_window(tmp_path):
+    # 1 s of episode at 10 frames/s from 0.6 s: the frames at 0.6, 0.7 ... 0.9 s; a start past the
+    # end is refused before any frame
+    out = render_trial(SYSTEM, spec(), tmp_path / "w.mp4", fps=10, width=W, height=H, start=0.6)
+    assert out["frames"] == out["expected"] == 4 and len(decode(tmp_path / "w.mp4")) == 4
+    with pytest.raises(ValueError, match="past the episode's end"):
+        render_trial(SYSTEM, spec(), tmp_path / "x.mp4", fps=10, width=W, height=H, start=5.0)
+
+
+def test_cli_render_at_an_event_reads_the_stored_trial(tmp_path):
+    from terrabench.benchmark.runner import run_trials
+    from terrabench.benchmark.store import ResultsStore
+
+    store = tmp_path / "s.duckdb"
+    base = ["render", "mrs-cwc", "--method", "cwc-tdt", "--terrain", "A-01", "--timeout", "1.0",
+            "--fps", "10", "--width", "96", "--height", "64", "--store", str(store)]
+    r = CliRunner().invoke(app, [*base, "--at", "end", "--out", str(tmp_path / "a.mp4")])
+    assert r.exit_code == 2 and "does not exist; run it first" in " ".join(r.output.split())
+    with ResultsStore(store) as st:
+        run_trials(SYSTEM.plan(methods=["cwc-tdt"], instances=["A-01"], overrides={"protocol.timeout": 1.0}), st,
+                   workers=1)
+    r = CliRunner().invoke(app, [*base, "--at", "nope", "--out", str(tmp_path / "a.mp4")])
+    assert r.exit_code == 2 and "valid: end, start" in " ".join(r.output.split())
+    # 'end' (1.0 s) with a 0.4 s span: the clip starts a quarter of the span before it, 0.9 s
+    r = CliRunner().invoke(app, [*base, "--at", "end", "--span", "0.4", "--out", str(tmp_path / "a.mp4")])
+    assert r.exit_code == 0, r.output
+    assert len(decode(tmp_path / "a.mp4")) == 1
+
+
+def test_srwmr_clip_events_are_read_off_the_series():
+    from terrabench.catalog import system
+    from terrabench.systems.srwmr.control import MODE_CODE
+
+    t = np.arange(0.0, 10.0, 0.5)
+    mode = np.where(t < 4.0, MODE_CODE["SWLM"], MODE_CODE["HALT"]).astype(float)
+    w = {f"W_c{i}": np.full(t.size, 300.0) for i in range(1, 7)}
+    w["W_c1"] = np.where(t < 0.5, 0.0, np.where(t < 2.0, 300.0, 2.0))  # in the air at first: not a lift
+    ev = system("srwmr").clip_events({"metrics": {}}, {"t": t, "mode": mode, **w})
+    assert ev == {"start": 0.0, "end": 9.5, "switch": 4.0, "halt": 4.0, "lift": 2.0}

@@ -177,17 +177,18 @@ class Page:
         return True
 
     def clip(self, name: str, caption: str, system: System, spec: TrialSpec, seconds: float, *, every: int,
-             fps: float = 25.0, **kwargs: Any) -> bool:
-        """Render the first ``seconds`` simulated seconds of ``spec``'s episode as the ``.mp4`` clip
-        ``name`` (a frame every ``every`` control periods, played at ``fps``) and show it with
+             fps: float = 25.0, start: float = 0.0, **kwargs: Any) -> bool:
+        """Render ``seconds`` simulated seconds of ``spec``'s episode from ``start`` as the ``.mp4``
+        clip ``name`` (a frame every ``every`` control periods, played at ``fps``) and show it with
         ``caption`` (:func:`terrabench.report.render.render_trial`; ``kwargs``: width, height,
-        overlay, track). The episode is cut at ``seconds`` through the system's ``timeout_key``.
+        overlay, track). The episode is cut at ``start + seconds`` through the system's ``timeout_key``.
         Without headless GL, or for a stored config this version cannot run, one note instead
         (as :meth:`snapshots`); returns whether it rendered."""
         from terrabench.report.render import GLUnavailable, render_trial
 
         try:
-            render_trial(system, cut_at(system, spec, seconds), self.out_dir / name, fps=fps, every=every, **kwargs)
+            render_trial(system, cut_at(system, spec, start + seconds), self.out_dir / name, fps=fps, every=every,
+                         start=start, **kwargs)
         except GLUnavailable as exc:
             self.note(f"Clip skipped: {exc}. Set MUJOCO_GL=egl (Mesa) or MUJOCO_GL=osmesa (libosmesa6).")
             return False

@@ -270,7 +270,7 @@ def _episode(system: System, spec: TrialSpec) -> tuple[Task, Callable[[Any], Any
 
 def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: float = 30, width: int = 640,
                  height: int = 480, every: int | None = None, progress: Callable[[int, int], None] | None = None,
-                 overlay: Overlay | None = None, track: str | None = None) -> dict[str, Any]:
+                 overlay: Overlay | None = None, track: str | None = None, start: float = 0.0) -> dict[str, Any]:
     """Run the benchmark episode of ``spec`` and write a clip of it.
 
     Args:
@@ -282,6 +282,8 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
         progress: ``progress(done, expected)`` after every frame.
         overlay: ``overlay(task, obs) -> str``, the system's overlay line (None: time and status).
         track: body the camera follows (None: the robot's centre of mass).
+        start: the clip's first frame (simulated s): the episode runs from 0, frames are kept from
+            here (cut the end with the system's timeout, :func:`terrabench.report.page.cut_at`).
 
     Returns:
         ``dict(path, frames, expected, seconds, fps_rendered, status, sim_time)``: ``seconds``
@@ -305,7 +307,11 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
             sink(renderer.render(ep.data, text))
 
     ep = Episode(task, on_step=grab)
-    expected_idx = frame_times(ep.period, ep.n_max - 1, fps, every)
+    if not (start >= 0.0) or not math.isfinite(start):
+        raise ValueError(f"start must be a finite number of simulated seconds >= 0, got {start!r}")
+    expected_idx = [i for i in frame_times(ep.period, ep.n_max - 1, fps, every) if i * ep.period >= start - 1e-9]
+    if not expected_idx:
+        raise ValueError(f"start {start:g} s is past the episode's end ({(ep.n_max - 1) * ep.period:g} s)")
     frames_at.update(expected_idx)
     expected = len(expected_idx)
     renderer = SceneRenderer(ep.model, width, height, track=track, **camera_of(task))

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, ClassVar, Mapping, Protocol, Sequence, runtime_checkable
 
+import numpy as np
+
 from terrabench.benchmark.trial import TrialResult, TrialSpec
 from terrabench.config import from_dict, override, to_dict
 
@@ -342,6 +344,14 @@ class System:
     def render_overlay(self, task: Task, obs: Any) -> str:
         """The system's line of a rendered frame's text overlay (e.g. the stiffness K); '' for none."""
         return ""
+
+    def clip_events(self, row: Mapping[str, Any], series: Mapping[str, np.ndarray]) -> dict[str, float]:
+        """Named instants (simulated s) of one stored trial that a clip can be cut at (``terrabench
+        render --at NAME``), read off its stored row and series: e.g. a mode switch, a lift. Every
+        system has ``start`` and ``end``; a system adds its own."""
+        t = np.asarray(series.get("t", ()), float)
+        end = float(t[-1]) if t.size else float((row.get("metrics") or {}).get("sim_time", 0.0) or 0.0)
+        return {"start": 0.0, "end": end}
 
     # ------------------------------------------------------------------ results (override)
     def summarize(self, rows: list[dict[str, Any]]) -> RenderableType:

@@ -54,3 +54,21 @@ def add_heightfield(
         conaffinity=0,
         rgba=[0.55, 0.5, 0.42, 1],
     )
+
+
+#: name of the ground's checker material (one per model)
+GROUND_MATERIAL = "ground_grid"
+
+
+def ground_material(spec: mujoco.MjSpec, rgb=(0.72, 0.55, 0.38), cell: float = 0.25) -> str:
+    """A checker material for a ground plane or heightfield, squares ``cell`` m wide (a 2 x 2
+    checker repeated once per 2 ``cell``), so motion over flat ground reads in a clip; two shades
+    of ``rgb``. Visual only: no contact parameter changes. Returns the material's name (added
+    once per ``spec``)."""
+    if not any(m.name == GROUND_MATERIAL for m in spec.materials):
+        lo = [max(0.0, c * 0.82) for c in rgb]
+        spec.add_texture(name=GROUND_MATERIAL, type=mujoco.mjtTexture.mjTEXTURE_2D,
+                         builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, rgb1=list(rgb), rgb2=lo, width=64, height=64)
+        mat = spec.add_material(name=GROUND_MATERIAL, texuniform=True, texrepeat=[1.0 / (2 * cell)] * 2)
+        mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = GROUND_MATERIAL
+    return GROUND_MATERIAL

@@ -198,7 +198,7 @@ def write_report(store, out_dir: Path, system: Any) -> Path:
         if len(groups) > 1:
             page.h2(f"Settings: {g.label} ({len(g.rows)} trials)")
         _section(page, store, list(g.rows), g.slug, plt)
-        _snapshots(page, system, list(g.rows), g.slug)
+        _snapshots(page, store, system, list(g.rows), g.slug)
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id=system.id, default_config=Defaults(system)))
     return page.finish()
@@ -207,13 +207,32 @@ def write_report(store, out_dir: Path, system: Any) -> Path:
 #: at most this much of each mode's first trial is re-run for its snapshots (s, simulated)
 SNAPSHOT_SPAN = 30.0
 #: simulated seconds of each mode's clip in the report (a frame every 0.4 s, played at 25 fps: 10x real time;
-#: software GL renders the soil scene at ~0.1-0.3 s a frame, so the clips are kept short)
+#: software GL renders the soil scene at ~2 frames/s at 640 x 360, so the clips are kept short)
 CLIP_SPAN = 60.0
+#: the event each mode's clip is cut at (``SRWMRSystem.clip_events``): the mode's own action
+CLIP_EVENT = {"wrm": "start", "wcm": "start", "rclm": "start", "rcm": "creep", "swlm": "lift", "dwlm": "lift"}
 
 
-def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) -> None:
-    """Four frames of each mode's first stored trial (seed order), re-run from its stored config:
-    t = 0 and thirds of its first ``SNAPSHOT_SPAN`` seconds (a note instead without GL)."""
+def _clip_rows(store: Any, system: Any, rows: list[dict[str, Any]]) -> dict[str, tuple[dict[str, Any], float]]:
+    """Per mode, its first stored trial (seed, instance order; slope sweeps last) in which the mode's
+    :data:`CLIP_EVENT` happens, and the event's time: a distinct trial per mode, showing its action."""
+    out: dict[str, tuple[dict[str, Any], float]] = {}
+    order = sorted(rows, key=lambda r: (r["instance"].startswith("slope-"), r["seed"], r["instance"]))
+    for r in order:
+        meth = r["method"]
+        if meth in out or meth not in CLIP_EVENT:
+            continue
+        ev = system.clip_events(r, store.timeseries(r["key"]))
+        if CLIP_EVENT[meth] in ev:
+            out[meth] = (r, ev[CLIP_EVENT[meth]])
+    return out
+
+
+def _snapshots(page: Any, store: Any, system: Any, rows: list[dict[str, Any]], slug: str) -> None:
+    """Per mode: four frames of its first stored trial (t = 0 and thirds of its first
+    ``SNAPSHOT_SPAN`` s), and a clip cut at the mode's own event (:data:`CLIP_EVENT`, a quarter of
+    the clip before it) from the first trial where it happens; both re-run from the stored config,
+    seen from the robot's right along the axles (a note instead without GL)."""
     from terrabench.benchmark.trial import TrialSpec
 
     firsts: dict[str, dict[str, Any]] = {}
@@ -231,10 +250,16 @@ def _snapshots(page: Any, system: Any, rows: list[dict[str, Any]], slug: str) ->
                        f"{meth.upper()} on {r['instance']} (seed {r['seed']}) at t = "
                        f"{', '.join(f'{t:g}' for t in times)} s, re-run from the stored config "
                        "(<code>terrabench render srwmr</code> makes a clip)",
-                       system, spec, times, width=320, height=240)
+                       system, spec, times, width=480, height=270)
+    page.h3("Each mode at work: clips cut at the mode's own event")
+    for meth, (r, t_ev) in sorted(_clip_rows(store, system, rows).items()):
+        spec = TrialSpec(system.id, r["scenario"], meth, r["instance"], r["seed"], r["config"])
+        start = max(0.0, t_ev - 0.25 * CLIP_SPAN)
         page.clip(f"clip_{meth}{slug}.mp4",
-                  f"{meth.upper()} on {r['instance']} (seed {r['seed']}), the first {CLIP_SPAN:g} s at 10x real time",
-                  system, spec, CLIP_SPAN, every=40, width=320, height=240)
+                  f"{meth.upper()} on {r['instance']} (seed {r['seed']}): {CLIP_EVENT[meth]} at {t_ev:.1f} s; "
+                  f"{start:.1f}-{start + CLIP_SPAN:.1f} s at 10x real time (<code>terrabench render srwmr --method "
+                  f"{meth} --terrain {r['instance']} --at {CLIP_EVENT[meth]}</code>)",
+                  system, spec, CLIP_SPAN, every=40, start=start, width=640, height=360)
 
 
 def _robot(rows):

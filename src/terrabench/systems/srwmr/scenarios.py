@@ -76,6 +76,41 @@ class SRWMRSystem(System):
             except ValueError as exc:
                 raise ValueError(f"scene.lift={lift!r}: {exc}") from None
 
+    def clip_events(self, row: Any, series: Any) -> dict[str, float]:
+        """Besides start and end: ``switch`` (the first mode change, e.g. the supervisor's WRM ->
+        RCM), ``creep`` (RCM's first period), ``lift`` (a wheel's soil load below 5 N in a legged
+        mode: it has left the ground), ``halt`` (a health halt), each where it happens."""
+        import numpy as np
+
+        from terrabench.systems.srwmr.control import MODE_CODE
+        from terrabench.systems.srwmr.robot import WHEELS
+
+        ev = super().clip_events(row, series)
+        t = np.asarray(series.get("t", ()), float)
+        mode = np.asarray(series.get("mode", ()), float)
+        if not t.size or mode.size != t.size:
+            return ev
+
+        def first(mask) -> None | float:
+            i = np.flatnonzero(mask)
+            return float(t[i[0]]) if i.size else None
+
+        found = {
+            "switch": first(mode != mode[0]),
+            "creep": first(mode == MODE_CODE["RCM"]),
+            "halt": first(mode == MODE_CODE["HALT"]),
+        }
+        legged = (mode == MODE_CODE["SWLM"]) | (mode == MODE_CODE["DWLM"])
+        lifts = []
+        for c in WHEELS:  # a wheel that carried load (> 50 N) and then none (< 5 N) in a legged mode
+            w = np.asarray(series.get(f"W_{c}", ()), float)
+            if w.size == t.size and (w > 50.0).any():
+                after = np.arange(t.size) > np.flatnonzero(w > 50.0)[0]
+                lifts.append(first(legged & after & (w < 5.0)))
+        found["lift"] = min((x for x in lifts if x is not None), default=None)
+        ev.update({k: v for k, v in found.items() if v is not None})
+        return ev
+
     def trial_config(self, method: str, instance: str, cfg: SRWMRConfig) -> dict[str, Any]:
         """The whole resolved config, ``protocol.timeout`` the instance's own unless one was set."""
         out = to_dict(cfg)

@@ -39,7 +39,7 @@ from terrabench.systems.srwmr.robot import (
 )
 from terrabench.systems.srwmr.sensing import Observation
 from terrabench.systems.srwmr.soils import srwmr_soil
-from terrabench.terrain.mjcf import add_heightfield
+from terrabench.terrain.mjcf import add_heightfield, ground_material
 
 COLUMNS = (
     ("x", "y", "z", "yaw", "pitch", "roll", "v", "v_cmd", "delta_L", "delta_R", "mode", "step", "slip", "sinkage")
@@ -167,6 +167,9 @@ class SRWMRTask(TaskBase):
         self.rng = np.random.default_rng(1_000_000 + seed)
         self.delta0 = delta_for_clearance(cfg.robot, sc.clearance)
         self.last_cmd = None
+        # clips look along the axles from the robot's right, nearly level: lifts, sinkage and the
+        # rocker's closing read in profile (report.render.camera_of)
+        self.camera = {"azimuth": 90.0 + math.degrees(self.start[2]), "elevation": -6.0}
 
     # ------------------------------------------------------------------ scene
     def build(self, spec: mujoco.MjSpec) -> None:
@@ -182,7 +185,7 @@ class SRWMRTask(TaskBase):
                 pos=[0, 0, prof[0][1]],
                 contype=0,
                 conaffinity=LINK_BIT,
-                rgba=[0.72, 0.55, 0.38, 1],
+                material=ground_material(spec),
             )
         else:
             # a ramp or a pit: one heightfield (20 mm along x) for the soil and the rigid links
@@ -191,7 +194,7 @@ class SRWMRTask(TaskBase):
             z = np.interp(x, [p[0] for p in prof], [p[1] for p in prof])
             g = add_heightfield(spec, np.repeat(z[:, None], len(y), axis=1), x, y, name="ground", friction=0.8)
             g.contype, g.conaffinity = 0, LINK_BIT
-            g.rgba = [0.72, 0.55, 0.38, 1]
+            g.material = ground_material(spec)
         for i, (cx, cy, hx, hy, hz) in enumerate(lay.boxes):
             zb = float(np.interp(cx, [p[0] for p in prof], [p[1] for p in prof]))
             spec.worldbody.add_geom(

@@ -69,7 +69,8 @@ def t2_lines(rows) -> list[dict[str, Any]]:
                 "period": name,
                 "body slip": _m(r, f"step{k}_slip"),
                 "time s": _m(r, f"step{k}_time"),
-                "energy kJ": _m(r, f"step{k}_energy_kJ"),
+                "energy kJ": _m(r, f"step{k}_energy_elec_kJ"),
+                "mech kJ": _m(r, f"step{k}_energy_kJ"),
                 "paper": "s_b around 0.4 (WRM and WCM)",
             })
     return lines
@@ -80,7 +81,7 @@ def t9_lines(rows) -> list[dict[str, Any]]:
     for meth in ("wrm", "wcm"):
         for r in _first(rows, "t9-avoid", meth):
             sb, rng, pt, pe, pp = T9_PAPER[meth]
-            t, e = _m(r, "sim_time"), _m(r, "energy_kJ")
+            t, e = _m(r, "sim_time"), _m(r, "energy_elec_kJ")
             lines.append({
                 "mode": meth,
                 "seed": r["seed"],
@@ -89,6 +90,7 @@ def t9_lines(rows) -> list[dict[str, Any]]:
                 "slip p10-p90": f"{_m(r, 'slip_p10'):.2f}-{_m(r, 'slip_p90'):.2f}",
                 "time s": t,
                 "energy kJ": e,
+                "mech kJ": _m(r, "energy_kJ"),
                 "power W": 1000 * e / t if t > 0 else float("nan"),
                 "PE": _m(r, "PE"),
                 "paper s_b": sb,
@@ -104,13 +106,14 @@ def t10_lines(rows) -> list[dict[str, Any]]:
     lines = []
     for r in _first(rows, "t10-heights", "rclm"):
         for k, name in enumerate(t10_periods()):
-            t, e = _m(r, f"step{k}_time"), _m(r, f"step{k}_energy_kJ")
+            t, e = _m(r, f"step{k}_time"), _m(r, f"step{k}_energy_elec_kJ")
             lines.append({
                 "seed": r["seed"],
                 "period mm": name,
                 "body slip": _m(r, f"step{k}_slip"),
                 "time s": t,
                 "energy kJ": e,
+                "mech kJ": _m(r, f"step{k}_energy_kJ"),
                 "power W": 1000 * e / t if t > 0 else float("nan"),
                 "paper energy kJ": T10_PAPER_KJ.get(name, float("nan")),
                 "paper power W": 1000 * T10_PAPER_KW[name] if name in T10_PAPER_KW else float("nan"),

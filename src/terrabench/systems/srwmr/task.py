@@ -246,6 +246,7 @@ class SRWMRTask(TaskBase):
         self._act_force, self._act_vel = data.actuator_force, data.actuator_velocity  # views, fixed buffers
         self._groups = {"drive": self.a_drive, "steer": self.a_steer, "rocker": self.a_rock}
         self.energy_elec = 0.0  # J of electrical input (motors.HIT_MRII), summed by power()
+        self.energy_elec_steps: dict[int, float] = {}  # the same per plan step (T2, T8, T10 periods)
         self.obs = Observation(model, data, self.rng)
         self.clutch = (False, False)
         self.x_start = float(data.xpos[self.chassis, 0])
@@ -297,7 +298,11 @@ class SRWMRTask(TaskBase):
         # the loop calls power() once per control period: the electrical input of the named motors
         # (motors.HIT_MRII: winding loss, no-load current, gear efficiency; no regeneration) is
         # summed here beside the mechanical figure the loop integrates
-        self.energy_elec += self.timing.control_period * float(HIT_MRII.power_of(f, v, self._groups))
+        e = self.timing.control_period * float(HIT_MRII.power_of(f, v, self._groups))
+        self.energy_elec += e
+        k = getattr(self.last_cmd, "step", None)
+        if k is not None and k == k:  # a plan step (not NaN)
+            self.energy_elec_steps[int(k)] = self.energy_elec_steps.get(int(k), 0.0) + e
         if f.shape[0] > 128:  # numpy's sum splits in halves there (the kernel does not)
             return float(np.abs(f * v).sum())
         return float(_abs_power_kernel(f, v))
@@ -307,6 +312,8 @@ class SRWMRTask(TaskBase):
 
         out = episode_metrics(log, self.x_start, self.z_start)
         out["energy_elec_kJ"] = self.energy_elec / 1000.0
+        for k, e in sorted(self.energy_elec_steps.items())[:8]:  # the steps episode_metrics reports
+            out[f"step{k}_energy_elec_kJ"] = e / 1000.0
         return out
 
     def info(self) -> dict:

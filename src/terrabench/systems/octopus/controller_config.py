@@ -14,9 +14,13 @@ from terrabench.config import param
 class CLMConfig:
     """CLM parameters (rad per 0.02 s tick unless said otherwise)."""
 
-    track_speed: float = param(0.1, gt=0, unit="m/s",
+    track_speed: float = param(0.06, gt=0, unit="m/s",
                                doc="crawler surface speed in compound mode (walking); the walk's pitch guard "
-                                   "(guard_pitch) backs off at minus this")
+                                   "(guard_pitch) backs off at minus this [S 'fixed and low'; R: a foothold "
+                                   "window (targets x to reach_min: 0.55 m front, 0.45 m rear) over the four-"
+                                   "transfer gait cycle (~9 s measured on flat) gives 0.05-0.06 m/s; at 0.1 the "
+                                   "tracks waited on 26 % of walking ticks (step-400), at 0.06 on 2.3 %; the "
+                                   "climb's speed, so the crawlers run at one speed]")
     climb_track_speed: float = param(0.06, gt=0, unit="m/s",
                                      doc="crawler speed while climbing a step (lift, drive and release); the "
                                          "travel S past the edge counts at this speed")

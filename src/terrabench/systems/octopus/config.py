@@ -54,12 +54,12 @@ class ProtocolConfig:
     """Success, failure and the clock."""
 
     control_period: float = param(0.02, gt=0, unit="s", doc="controller period [P: 50 Hz]")
-    timeout: float = param(90.0, gt=0, unit="s",
-                           doc="simulated time limit; the paper gives none (and calls CLM slow); 90 s: CLM walks at "
-                               "0.054 m/s (arms placed in 7.4 s), the block task needs 2.2 m of travel (>= 48 s) plus "
-                               "the ride-over, a two-terrace task two climbs (~8 s each) and two walks; at 60 s those "
-                               "tasks were cut off while still progressing (terraces 1/5 and 1/5, block 0/5 at "
-                               "1.0-1.2 m)")
+    timeout: float = param(150.0, gt=0, unit="s",
+                           doc="simulated time limit; the paper gives none (and calls CLM slow). It scales with the "
+                               "crawler speed: 90 s was set for a 0.1 m/s walk (the block task's 2.2 m of travel, a "
+                               "two-terrace task's two climbs and walks; at 60 s those were cut off while still "
+                               "progressing); at clm.track_speed 0.06 m/s the same distances take 0.1 / 0.06 as "
+                               "long, 150 s (at 90 s the block trials were cut off at 2.07-2.18 of 2.26 m)")
     log_period: float = param(0.1, gt=0, unit="s", doc="stored series period")
     check_period: float = param(0.5, gt=0, unit="s", doc="slow check / divergence test period")
     turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")

@@ -291,7 +291,7 @@ class CLMController(MachineController):
                     front = i < 2
                     if (front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap):
                         continue
-                    self.lift_tgt[i, 2] -= cfg.lift_dz
+                    self.lift_tgt[i, 2] -= cfg.lift_dz if front else cfg.lift_dz * cfg.lift_rear
             for i, k in enumerate(ARMS):
                 c.arm[i] = ak.ik(self.lift_tgt[i], self.robot, k)
             for f in range(4):

@@ -152,6 +152,9 @@ class CLMConfig:
     lift_dz: float = param(0.002, gt=0, unit="m/tick",
                            doc="lift: every tip target in {R} moves down by this a tick (IK), so the chassis rises "
                                "vertically on its tips")
+    lift_rear: float = param(1.0, ge=0, le=1.0,
+                             doc="while lifting, the rear tips move down at this share of lift_dz (1: a level "
+                                 "four-arm lift; below 1 the nose rises, the rear crawlers stay on the ground)")
     flip_lead: float = param(0.05, ge=0, unit="rad",
                              doc="while climbing, a flipper command goes at most this far below the measured angle "
                                  "(eq. 29): a flipper on the top or the ground presses with at most flipper_kp x this")

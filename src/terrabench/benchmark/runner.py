@@ -189,9 +189,9 @@ def _interrupts_deferred():
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    caught: list[int] = []
+    caught: list[signal.Signals] = []
     held = [sig for sig in (signal.SIGINT, signal.SIGTERM)]
-    old = {sig: signal.signal(sig, lambda signum, frame: caught.append(signum)) for sig in held}
+    old = {sig: signal.signal(sig, lambda signum, frame: caught.append(signal.Signals(signum))) for sig in held}
     try:
         yield
     finally:

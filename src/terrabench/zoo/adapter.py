@@ -14,9 +14,10 @@ import importlib
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-#: the adapters of the built-in systems (modules imported on first use)
+#: the adapters of the built-in systems (modules imported on first use). The ``soil`` system (the
+#: CMU single-wheel rig) has none: it is a wheel on a test bed, not a robot that crosses a course.
 BUILTIN = ("terrabench.systems.mrs_cwc.zoo", "terrabench.systems.octopus.zoo", "terrabench.systems.srwmr.zoo",
-           "terrabench.systems.beams.zoo", "terrabench.systems.soil.zoo")
+           "terrabench.systems.beams.zoo")
 
 
 @dataclass(frozen=True)
@@ -45,12 +46,14 @@ class ZooAdapter:
         robot: the system id whose robot this is.
         label: display name (``"OCTOPUS"``).
         methods: method -> one line (the go-to-goal controllers).
+        default_methods: the methods ``terrabench run zoo`` plans without ``--methods`` (() = all).
         unsupported: family id -> why the robot cannot enter it (one line).
     """
 
     robot: str = ""
     label: str = ""
     methods: Mapping[str, str] = {}
+    default_methods: tuple[str, ...] = ()
     unsupported: Mapping[str, str] = {}
 
     def footprint(self) -> Footprint:

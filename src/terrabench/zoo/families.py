@@ -83,7 +83,9 @@ class Family:
 def _frame(fp: Footprint, cfg: CourseConfig, feature_end: float) -> tuple[float, float, float, float]:
     """(lane width, x_min, goal_x, x_max) of a course whose feature ends at ``feature_end``."""
     lane = fp.width + 2 * cfg.lane_margin
-    x_min = -cfg.run_up - fp.length - 1.0
+    # ground behind the start: 1 m plus two robot lengths (courses without a floor plane end
+    # there, and a robot that backs or scatters, like the MRS-D units, must not fall off it)
+    x_min = -cfg.run_up - 3.0 * fp.length - 1.0
     goal = feature_end + cfg.goal_past
     return lane, x_min, goal, goal + fp.length + cfg.run_out
 
@@ -144,8 +146,12 @@ def _slope_family(soil: str | None):
 
 
 def _grid(x0: float, x1: float, lane: float, d: float) -> tuple[np.ndarray, np.ndarray]:
+    """Grid points along x on multiples of ``d`` (the same samples for every footprint), and
+    across the lane (an odd count: y = 0 is a sample)."""
     n = max(3, int(round(lane / d)) + 1)
-    return np.arange(x0, x1 + 1e-9, d), np.linspace(-lane / 2, lane / 2, n)
+    n += 1 - n % 2
+    k0, k1 = math.floor(x0 / d), math.ceil(x1 / d)
+    return np.arange(k0, k1 + 1) * d, np.linspace(-lane / 2, lane / 2, n)
 
 
 def _rough_sine(token, fp, cfg, rng) -> Course:
@@ -186,11 +192,14 @@ def _rough_mrs(token, fp, cfg, rng) -> Course:
     lane, x0, goal, x1 = _frame(fp, cfg, L)
     x, y = _grid(x0, x1, lane, cfg.grid)
     # the strip runs along +x through the terrain's centre line, its start 3 m into the terrain
-    X, Y = np.meshgrid(x + vx[0] + 3.0 - x0, y + sine_sum.CENTRE_XY[1], indexing="ij")
+    # (the feature's start x = 0 is 3 m into the terrain for every footprint: the same strip for
+    # every robot; outside the feature the window is 0, so points there are clamped to the terrain)
+    X, Y = np.meshgrid(np.clip(x + vx[0] + 3.0, vx[0], vx[-1]), y + sine_sum.CENTRE_XY[1], indexing="ij")
     Hs = f(np.stack([X, Y], axis=-1))
     w = window(x, 0.0, L, cfg.rough_ramp)[:, None]
     inside = w > 0
-    h = w * (Hs - float(Hs[inside.ravel()].mean()))
+    band = np.abs(y) <= 0.5  # the mean over a fixed band, not the robot's lane: one strip for all
+    h = w * (Hs - float(Hs[inside.ravel()][:, band].mean()))
     return Course("rough-mrs", slope, (), None, HField(h, x, y), None, (0.0, L), -cfg.run_up, goal, lane,
                   float(h.min()) - cfg.fall_drop, (x0, x1),
                   f"a {L:g} m strip of released terrain {tid} (group {token}, mean axis slope {slope:.1f} deg)",

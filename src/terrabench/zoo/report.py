@@ -93,19 +93,29 @@ def map_figure(lines: list[dict[str, Any]]):
 
 
 def write_report(store, out_dir: Path, system: Any = None) -> Path:
-    """``index.html``: the map (per method and family) and every trial; CSVs beside it."""
+    """``index.html``: the map (per method and family) and every trial, one section per settings
+    group (:func:`terrabench.report.variants.settings_groups`: trials made with different ``--set``
+    values are never mixed in one map); CSVs beside it, suffixed with the group's slug."""
+    from terrabench.catalog import system as get_system
     from terrabench.report.page import Page
+    from terrabench.report.variants import Defaults, settings_groups
 
+    system = system if system is not None else get_system("zoo")
     rows = store.rows(system="zoo")
     page = Page(out_dir, "terrabench zoo: the mobility map")
     page.p(f"{len(rows)} stored trials. A row per robot method and terrain family: successes, the largest "
            "severity crossed, the first failure (status at severity).")
-    page.table(map_lines(rows), ("method", "family", "success", "trials", "max_crossed", "first_failure"),
-               csv_name="map.csv")
-    lines = map_lines(rows)
-    if lines:
-        page.figure(map_figure(lines), "map.png", "Share of the stored severities crossed per method and family "
-                    "(blank: not run or unsupported).")
-    page.h2("Trials")
-    page.table(trial_lines(rows), TRIAL_COLUMNS, csv_name="trials.csv")
+    groups = settings_groups(rows, Defaults(system))
+    for g in groups:
+        grows, slug = list(g.rows), g.slug
+        if len(groups) > 1:
+            page.h2(f"Settings: {g.label} ({len(grows)} trials)")
+        lines = map_lines(grows)
+        page.table(lines, ("method", "family", "success", "trials", "max_crossed", "first_failure"),
+                   csv_name=f"map{slug}.csv")
+        if lines:
+            page.figure(map_figure(lines), f"map{slug}.png", "Share of the stored severities crossed per method "
+                        "and family (blank: not run or unsupported).")
+        page.h3("Trials")
+        page.table(trial_lines(grows), TRIAL_COLUMNS, csv_name=f"trials{slug}.csv")
     return page.finish()

@@ -585,7 +585,8 @@ def block_srwmr_t14(src: Sources) -> Block:
         held = [r for r in t10 if fnum(r.get("paper power W")) is not None and fnum(r.get("power W")) is not None]
         if held:
             body += (f"\n\nT10 (RCLM, chassis held at {', '.join(r.get('period mm', '') for r in held)} mm): "
-                     f"mean electrical input power (the motor model) {span(_nums(held, 'power W'), 1, ' W')}, the paper's "
+                     f"mean electrical input power (the motor model) {span(_nums(held, 'power W'), 1, ' W')}, "
+                     "the paper's "
                      f"{span(_nums(held, 'paper power W'), 0, ' W')}.")
     return src.block(body)
 

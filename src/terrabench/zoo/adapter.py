@@ -73,13 +73,25 @@ class ZooAdapter:
         if why is not None:
             raise ValueError(f"{self.robot}.{method} cannot enter the zoo family {family!r}: {why}")
 
+    #: the robot system's config class and its zoo task class (``task_cls(method, course, cfg,
+    #: zoo_cfg, footprint, timeout, seed)``), read by the default hooks below
+    config_cls: Any = None
+    task_cls: Any = None
+
     def robot_config(self, method: str) -> dict[str, Any]:
-        """The robot system's config a trial runs with (stored with the trial, as a dict)."""
-        raise NotImplementedError
+        """The robot system's config a trial runs with (stored with the trial, as a dict); default:
+        the whole default :attr:`config_cls`."""
+        from terrabench.config import to_dict
+
+        return to_dict(self.config_cls())
 
     def make_task(self, method: str, course: Any, robot_cfg: Mapping[str, Any], zoo_cfg: Any, timeout: float,
                   seed: int) -> Any:
-        raise NotImplementedError
+        """The trial's task: :attr:`task_cls` on the stored ``robot_cfg`` read back into :attr:`config_cls`."""
+        from terrabench.config import from_dict
+
+        return self.task_cls(method, course, from_dict(self.config_cls, robot_cfg), zoo_cfg, self.footprint(),
+                             timeout, seed)
 
     def make_controller(self, method: str, task: Any) -> Any:
         raise NotImplementedError

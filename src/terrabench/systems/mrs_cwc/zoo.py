@@ -10,12 +10,12 @@ terrain and are not offered.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any, Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
 
-from terrabench.config import from_dict, to_dict
+from terrabench.config import to_dict
 from terrabench.sim.checks import roll_pitch
 from terrabench.sim.episode import Timing
 from terrabench.systems.mrs_cwc.config import MRSConfig
@@ -83,6 +83,8 @@ class ZooMRSTask(ZooRules, MRSTask):
 class MRSAdapter(ZooAdapter):
     robot = "mrs-cwc"
     label = "MRS-CWC chain"
+    config_cls = MRSConfig
+    task_cls = ZooMRSTask
     methods = {"cwc-tdt": "elastic links, yaw stiffness switched by sensed torques; heads down the lane",
                "d-tdt": "six independent units following by position; heads down the lane"}
     unsupported = {f.id: NO_SOIL for f in FAMILIES.values() if not f.rigid}
@@ -97,10 +99,6 @@ class MRSAdapter(ZooAdapter):
 
     def robot_config(self, method: str) -> dict[str, Any]:
         return config_for(get_method(method), to_dict(MRSConfig()))
-
-    def make_task(self, method: str, course: Any, robot_cfg: Mapping[str, Any], zoo_cfg: Any, timeout: float,
-                  seed: int) -> ZooMRSTask:
-        return ZooMRSTask(method, course, from_dict(MRSConfig, robot_cfg), zoo_cfg, self.footprint(), timeout, seed)
 
     def make_controller(self, method: str, task: ZooMRSTask):
         return make_controller(task.method, task.cfg, None)

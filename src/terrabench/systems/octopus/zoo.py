@@ -8,12 +8,11 @@ families are unsupported.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
 
-from terrabench.config import from_dict, to_dict
 from terrabench.sim.checks import roll_pitch
 from terrabench.sim.episode import Timing
 from terrabench.systems.octopus.ccm import CCMController
@@ -81,6 +80,8 @@ class ZooOctopusTask(ZooRules, OctopusTask):
 class OctopusAdapter(ZooAdapter):
     robot = "octopus"
     label = "OCTOPUS"
+    config_cls = OctopusConfig
+    task_cls = ZooOctopusTask
     methods = {"clm": "compound locomotion: arms walk and lift, flippers crawl",
                "ccm": "crawler-only: automated flipper step climbing"}
     unsupported = {f.id: NO_SOIL for f in FAMILIES.values() if not f.rigid}
@@ -90,14 +91,6 @@ class OctopusAdapter(ZooAdapter):
         # resting tips out to the sides; mass: the compiled model's subtree mass (94.2 kg); speed:
         # CLM's walking speed (OctopusConfig protocol.timeout doc: 0.054 m/s)
         return Footprint(length=1.0, front=0.5, width=0.8, height=0.33, wheel_radius=0.09, mass=94.2, speed=0.054)
-
-    def robot_config(self, method: str) -> dict[str, Any]:
-        return to_dict(OctopusConfig())
-
-    def make_task(self, method: str, course: Any, robot_cfg: Mapping[str, Any], zoo_cfg: Any, timeout: float,
-                  seed: int) -> ZooOctopusTask:
-        return ZooOctopusTask(method, course, from_dict(OctopusConfig, robot_cfg), zoo_cfg, self.footprint(), timeout,
-                              seed)
 
     def make_controller(self, method: str, task: ZooOctopusTask):
         cfg = task.cfg

@@ -11,12 +11,11 @@ unsupported: srwmr's task has no rigid-ground mode to switch to.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
 
-from terrabench.config import from_dict, to_dict
 from terrabench.sim.checks import Stalled, requested_stop, roll_pitch
 from terrabench.sim.episode import Timing
 from terrabench.soil.presets import HIT_MRII_WHEEL
@@ -131,6 +130,8 @@ class ZooSRWMRTask(ZooRules, SRWMRTask):
 class SRWMRAdapter(ZooAdapter):
     robot = "srwmr"
     label = "HIT-MRII"
+    config_cls = SRWMRConfig
+    task_cls = ZooSRWMRTask
     methods = {"wrm": "wheel rolling straight down the lane at 25 mm/s, health halt at body slip",
                "rcm": "as wrm, the supervisor switching to creeping (RCM) below 10 % climbing efficiency"}
     unsupported = {f.id: RIGID for f in FAMILIES.values() if f.rigid}
@@ -149,14 +150,6 @@ class SRWMRAdapter(ZooAdapter):
         # height (the body's top is at about it); mass: RobotConfig.total_mass
         return Footprint(length=r.nose + r.tail, front=r.nose, width=r.track + r.wheel_width, height=r.hinge_height,
                          wheel_radius=r.wheel_radius, mass=r.total_mass, speed=SPEED)
-
-    def robot_config(self, method: str) -> dict[str, Any]:
-        return to_dict(SRWMRConfig())
-
-    def make_task(self, method: str, course: Any, robot_cfg: Mapping[str, Any], zoo_cfg: Any, timeout: float,
-                  seed: int) -> ZooSRWMRTask:
-        return ZooSRWMRTask(method, course, from_dict(SRWMRConfig, robot_cfg), zoo_cfg, self.footprint(), timeout,
-                            seed)
 
     def make_controller(self, method: str, task: ZooSRWMRTask):
         cfg = task.cfg

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from terrabench.sim.checks import Stalled, turned_over
+from terrabench.sim.checks import Stalled, roll_pitch, turned_over
 from terrabench.zoo.metrics import zoo_metrics
 
 #: the columns the zoo adds to a robot's own log
@@ -39,8 +39,20 @@ class ZooRules:
         self.columns = tuple(type(self).columns) + ZOO_COLUMNS
 
     def pose(self) -> tuple[float, float, float, float, float]:
-        """(rearmost x, reference y, lowest tracked body z, roll, pitch) now (m, rad)."""
-        raise NotImplementedError
+        """(rearmost x, reference y, lowest tracked body z, roll, pitch) now (m, rad). Default, a
+        one-body robot: the rear end ``footprint.length - footprint.front`` behind the ``chassis``
+        body's origin along its x axis, the chassis' y, z and attitude; a chain overrides it."""
+        d, ch = self.data, self.chassis
+        p = d.xpos[ch]
+        ax = d.xmat[ch].reshape(3, 3)[:, 0]
+        roll, pitch = roll_pitch(d.xquat[ch])
+        rear = self.rear_length()
+        return float(p[0] - rear * ax[0]), float(p[1]), float(p[2]), roll, pitch
+
+    def rear_length(self) -> float:
+        """How far the robot's rear end is behind its ``chassis`` origin (m); default from the
+        footprint, a robot with the length in its own config returns that (its stored bits)."""
+        return self.footprint.length - self.footprint.front
 
     def own_stop(self, obs: Any, rear_x: float) -> tuple[str, str] | None:
         """The robot's own stop rule (a controller's request); default none."""

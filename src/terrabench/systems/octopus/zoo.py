@@ -13,7 +13,6 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from terrabench.sim.checks import roll_pitch
 from terrabench.sim.episode import Timing
 from terrabench.systems.octopus.ccm import CCMController
 from terrabench.systems.octopus.clm import CLMController
@@ -45,7 +44,6 @@ class ZooOctopusTask(ZooRules, OctopusTask):
         x0 = course.start_front - footprint.front
         self.layout = Layout("zoo", (), course.goal_x, 0.0, 0.0, (x0, y0), 0.0)
         self.camera = {"azimuth": 90.0, "elevation": -12.0}
-        self._rear_len = footprint.length - footprint.front
         self.zoo_init()
 
     def build(self, spec: mujoco.MjSpec) -> None:
@@ -54,7 +52,7 @@ class ZooOctopusTask(ZooRules, OctopusTask):
         add_course(spec, c, contype=GROUND_BIT, conaffinity=0, friction=self.zoo.course.friction)
         spec.worldbody.add_light(pos=[0, 0, 4], dir=[0, 0, -1])
         x0, y0 = self.layout.start
-        z0 = start_height(c, x0 - self._rear_len, x0 + fp.front, fp.width)
+        z0 = start_height(c, x0 - self.rear_length(), x0 + fp.front, fp.width)
         add_robot(spec, (x0, y0, z0 + r.pulley_r + 0.01), 0.0, r)
         # the paper's start pose of the arms (as OctopusTask.build): out to the sides, tips up
         self._q0 = {Names.arm_joint(k, "swing"): (0.9 if k[1] == "F" else -0.6) for k in ARMS}
@@ -65,13 +63,6 @@ class ZooOctopusTask(ZooRules, OctopusTask):
         obs = super().bind(model, data)
         self.zoo_start = self.pose()[0]
         return obs
-
-    def pose(self) -> tuple[float, float, float, float, float]:
-        d, ch = self.data, self.chassis
-        p = d.xpos[ch]
-        ax = d.xmat[ch].reshape(3, 3)[:, 0]
-        roll, pitch = roll_pitch(d.xquat[ch])
-        return float(p[0] - self._rear_len * ax[0]), float(p[1]), float(p[2]), roll, pitch
 
     def info(self) -> dict:
         return self.zoo_info()

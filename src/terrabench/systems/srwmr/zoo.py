@@ -16,7 +16,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from terrabench.sim.checks import Stalled, requested_stop, roll_pitch
+from terrabench.sim.checks import Stalled, requested_stop
 from terrabench.sim.episode import Timing
 from terrabench.soil.presets import HIT_MRII_WHEEL
 from terrabench.soil.table import cached_table
@@ -92,17 +92,12 @@ class ZooSRWMRTask(ZooRules, SRWMRTask):
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData):
         obs = super().bind(model, data)
-        self._tail = self.cfg.robot.tail
         self.zoo_start = self.pose()[0]
         self._zoo_mode = None
         return obs
 
-    def pose(self) -> tuple[float, float, float, float, float]:
-        d, ch = self.data, self.chassis
-        p = d.xpos[ch]
-        ax = d.xmat[ch].reshape(3, 3)[:, 0]
-        roll, pitch = roll_pitch(d.xquat[ch])
-        return float(p[0] - self._tail * ax[0]), float(p[1]), float(p[2]), roll, pitch
+    def rear_length(self) -> float:
+        return self.cfg.robot.tail
 
     def check(self, obs: Any, slow: bool) -> tuple[str, str] | None:
         # a new mode (the supervisor's WRM -> RCM switch) gets its own stuck window: the creep

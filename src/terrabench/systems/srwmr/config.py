@@ -26,12 +26,12 @@ class SupervisorConfig:
     health_s: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="the health limit must hold this long")
     slip_tau: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="time constant of the body-slip estimate")
     steer_tol: float = param(0.05, gt=0.0, le=1.0, unit="rad", doc="wheels roll once steering errors are below this")
-    rcm_rim_ratio: float = param(0.0, ge=0.0, le=20.0,
+    rcm_rim_ratio: float = param(7.0 / 3.6, ge=0.0, le=20.0,
                                  doc="RCM rolling-set rim speed per unit chassis vertical speed, a floor over "
-                                     "the kinematic speed [0: none, the fitted linkage's own speeds give Task 4's "
-                                     "'7.0 mm/s ... when the command velocity of the robot chassis is 3.6 mm/s' "
-                                     "(1.81 of 1.94, docs/srwmr.md); 7.0 / 3.6 was the overdrive of the earlier "
-                                     "linkage]")
+                                     "the kinematic speed [S Task 4: '7.0 mm/s ... when the command velocity "
+                                     "of the robot chassis is 3.6 mm/s'; the fitted linkage's own shrink per "
+                                     "lift gives 1.26 of it (docs/srwmr.md), so the paper's command is kept; "
+                                     "0: the kinematic speed only]")
 
     def __post_init__(self) -> None:
         check_fields(self)

@@ -320,9 +320,10 @@ def _t10(b: Build) -> Layout:
                        f"{T10_HOLD:g} m at each held height [S Task 10]")
 
 
-@instance("t11-slope15", group="tasks", methods=("wrm", "rcm"), timeout=600.0)
+@instance("t11-slope15", group="tasks", methods=("wrm", "rcm"), timeout=3100.0)
 def _t11(b: Build) -> Layout:
-    """T11: a 15 deg loose slope until every wheel is on it [S 'all wheels reached the slope']."""
+    """T11: a 15 deg loose slope until every wheel is on it; the limit leaves room for the paper's
+    time [S Task 11 "By 3030 s, all wheels had successfully reached the slope"]."""
     return _slope(b, 15.0, "loose")
 
 

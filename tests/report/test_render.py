@@ -201,3 +201,11 @@ def test_srwmr_clip_events_are_read_off_the_series():
     w["W_c1"] = np.where(t < 0.5, 0.0, np.where(t < 2.0, 300.0, 2.0))  # in the air at first: not a lift
     ev = system("srwmr").clip_events({"metrics": {}}, {"t": t, "mode": mode, **w})
     assert ev == {"start": 0.0, "end": 9.5, "switch": 4.0, "halt": 4.0, "lift": 2.0}
+
+
+def test_a_sped_up_clip_grabs_fewer_frames_per_simulated_second(tmp_path):
+    # 1 s of episode at 10 frames/s played 2x real time: a frame every 0.2 s (0, 0.2 ... 0.8)
+    out = render_trial(SYSTEM, spec(), tmp_path / "s.mp4", fps=10, width=W, height=H, speedup=2.0)
+    assert out["frames"] == out["expected"] == 5 and len(decode(tmp_path / "s.mp4")) == 5
+    with pytest.raises(ValueError, match="speedup must be"):
+        render_trial(SYSTEM, spec(), tmp_path / "t.mp4", fps=10, width=W, height=H, speedup=0.0)

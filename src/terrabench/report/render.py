@@ -270,7 +270,8 @@ def _episode(system: System, spec: TrialSpec) -> tuple[Task, Callable[[Any], Any
 
 def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: float = 30, width: int = 640,
                  height: int = 480, every: int | None = None, progress: Callable[[int, int], None] | None = None,
-                 overlay: Overlay | None = None, track: str | None = None, start: float = 0.0) -> dict[str, Any]:
+                 overlay: Overlay | None = None, track: str | None = None, start: float = 0.0,
+                 speedup: float = 1.0) -> dict[str, Any]:
     """Run the benchmark episode of ``spec`` and write a clip of it.
 
     Args:
@@ -284,6 +285,8 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
         track: body the camera follows (None: the robot's centre of mass).
         start: the clip's first frame (simulated s): the episode runs from 0, frames are kept from
             here (cut the end with the system's timeout, :func:`terrabench.report.page.cut_at`).
+        speedup: the clip plays this many times faster than real time (frames are grabbed at
+            ``fps / speedup`` per simulated second and played at ``fps``; ignored with ``every``).
 
     Returns:
         ``dict(path, frames, expected, seconds, fps_rendered, status, sim_time)``: ``seconds``
@@ -292,6 +295,8 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
     out_path = Path(out_path)
     _check_suffix(out_path)
     _check_fps(fps)
+    if isinstance(speedup, bool) or not isinstance(speedup, (int, float)) or not (math.isfinite(speedup) and speedup > 0):
+        raise ValueError(f"speedup must be a finite number > 0, got {speedup!r}")
     check_frame_size(out_path, width, height)
     t0 = time.perf_counter()
     task, controller, Episode = _episode(system, spec)
@@ -309,7 +314,9 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
     ep = Episode(task, on_step=grab)
     if not (start >= 0.0) or not math.isfinite(start):
         raise ValueError(f"start must be a finite number of simulated seconds >= 0, got {start!r}")
-    expected_idx = [i for i in frame_times(ep.period, ep.n_max - 1, fps, every) if i * ep.period >= start - 1e-9]
+    grab_fps = fps / speedup
+    expected_idx = [i for i in frame_times(ep.period, ep.n_max - 1, grab_fps, every)
+                    if i * ep.period >= start - 1e-9]
     if not expected_idx:
         raise ValueError(f"start {start:g} s is past the episode's end ({(ep.n_max - 1) * ep.period:g} s)")
     frames_at.update(expected_idx)

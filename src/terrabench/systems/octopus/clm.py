@@ -19,6 +19,7 @@ from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.controller_config import CLMConfig
 from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
 from terrabench.systems.octopus.rules import (
+    ELBOW_LIFT,
     FLAT,
     UP,
     Command,
@@ -262,6 +263,118 @@ class CLMController(MachineController):
         return out
 
     # ---------------------------------------------------------------- climbing
+    def _h_over(self) -> float:
+        """H - H_EST from the front tips (m): the track bottom's height over the top the front tips
+        stand on, -Z_C(front tips' midpoint) - H2. With the rear tips on the lower ground this is
+        eqs. 9-12's H - H_EST (H_EST = front less rear tip height); it needs no rear tip down there,
+        so it holds when the rear arms have lifted clear."""
+        return -float(np.mean(self.tip_c[:2, 2])) - self.cfg.h2
+
+    def _nose_start(self, obs, resume: bool = False) -> None:
+        """State of a (fresh or resumed) nose climb: every arm a support, none lifted clear."""
+        self.lifted = np.zeros(4, bool)
+        self.lifting = np.ones(4, bool) if not resume else np.zeros(4, bool)
+        self.lifting[2:] = False  # only the front booms lift (the rear arms press)
+        if not resume:
+            self.pitch0 = obs.pitch  # the pitch of the ground the crawlers drive on
+        self.prev_pitch = obs.pitch
+        self.over = resume
+
+    def _rear_pivot(self, obs) -> np.ndarray:
+        """The rear ground contact in {R} (x, z) the body pitches about: the lower in {C} of the rear
+        pulley's bottom and the rear flipper tip pulleys' bottom (encoders + IMU)."""
+        r = self.robot
+        a = float(np.mean(obs.q_flip[2:]))  # rear flipper angle (> 0 lifts the tip)
+        pul = np.array([-r.pulley_x, -r.pulley_r])
+        tip = np.array([-r.pulley_x - r.flipper_len * math.cos(a), r.flipper_len * math.sin(a) - r.flipper_tip_r])
+        sp = math.sin(obs.pitch)
+        zc = lambda p: p[1] * math.cos(obs.pitch) + p[0] * sp  # noqa: E731
+        return tip if zc(tip) < zc(pul) else pul
+
+    def _climb_nose(self, obs) -> None:
+        """The climb of the paper's Fig. 9 (eqs. 28-29, ``nose_climb``).
+
+        The crawlers drive at ``climb_track_speed`` into and up the riser (backing off beyond
+        ``guard_pitch``, the stability monitor). The front booms lift the nose: their tip targets in
+        {R} move down by ``lift_dz`` a tick while the pitch is below ``climb_pitch`` and the front
+        is not yet over the top (H - H_EST < ``lift_margin``, :meth:`_h_over`); above it they hold.
+        Once over, they unload (targets up by ``lift_dz`` a tick to a press) and press. The rear arms
+        press with a bounded force from the start (target ``climb_press`` below the sensed tip), so
+        the rear crawlers stay loaded; an arm whose foothold leaves its range lifts clear (to A_B).
+        Every support's target moves each tick by the prediction of eqs. 22-27 in x and z: the body's
+        pitch change (IMU) about the rear ground contact (:meth:`_rear_pivot`) and the crawler travel
+        L along the ground the crawlers stand on (pitch at the climb start). Flippers: eq. 29 with a
+        torque-limited lead (``flip_lead``); the front ones wait until their tips can reach the top
+        (the pivot plus the flipper above the top, in {C}), then come down onto it.
+        S (eq. 5) counts from H >= H_EST; release at S > L as before.
+        """
+        cfg, c, r = self.cfg, self.cmd, self.robot
+        v = cfg.climb_track_speed
+        if obs.pitch > cfg.guard_pitch:
+            v = -v
+            if not self.guarding:
+                self.machine.note(obs.t, "climb", "climb", f"pitch {obs.pitch:.2f} rad > {cfg.guard_pitch}: "
+                                  "crawlers back off")
+        self.guarding = obs.pitch > cfg.guard_pitch
+        c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
+        h = self._h_over()
+        if h >= 0.0:
+            self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
+        if h > cfg.lift_margin and not self.over:
+            self.over = True
+            self.machine.note(obs.t, "climb", "climb", f"front over the top (H - H_EST = {h:.3f} m): front arms unload")
+        # eqs. 22-27 for every support: rotation by the pitch change about the rear contact, then travel
+        dth = obs.pitch - self.prev_pitch
+        self.prev_pitch = obs.pitch
+        piv = self._rear_pivot(obs)
+        cs, sn = math.cos(dth), math.sin(dth)
+        a = self.pitch0 - obs.pitch
+        lx, lz = v * self.dt * math.cos(a), v * self.dt * math.sin(a)
+        mx, my, _ = r.arm_mount
+        for i, k in enumerate(ARMS):
+            if self.lifted[i]:
+                continue
+            t = self.lift_tgt[i]
+            dx, dz = t[0] - piv[0], t[2] - piv[1]
+            t[0], t[2] = piv[0] + dx * cs + dz * sn - lx, piv[1] - dx * sn + dz * cs - lz
+            front = i < 2
+            if front and not self.over:
+                if obs.pitch < cfg.climb_pitch and h < cfg.lift_margin:
+                    t[2] -= cfg.lift_dz
+            else:
+                # press: the target at most climb_press below the sensed tip (a lifting arm unloads
+                # at lift_dz a tick)
+                t[2] = max(t[2], min(t[2] + cfg.lift_dz, self.tip_r[i, 2] - cfg.climb_press))
+            sx, sy = CORNER[k]
+            beyond = ((t[0] < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
+                      or math.hypot(t[0] - sx * mx, t[1] - sy * my) > cfg.reach_max)
+            if beyond and (not front or self.over):
+                self.lifted[i] = True
+                self.contact[i] = False
+                q = obs.q_arm[i]
+                c.arm[i] = np.array([q[0], cfg.arm_ab, ELBOW_LIFT])
+                self._arm_event(obs.t, k, SUPPORT, TRANSFER, "climb: foothold out of range, lifted clear")
+                continue
+            c.arm[i] = ak.ik(t, r, k)
+        # flippers, eq. 29 (A' - dF) with a torque-limited lead
+        # the front flipper tip clears the edge when, a pulley radius ahead of its pivot (the pulley
+        # against the riser), its tip pulley's bottom is above the top
+        top = float(np.mean(self.tip_c[:2, 2])) - r.tip_r
+        pivot_z = r.pulley_x * math.sin(obs.pitch)
+        reach = pivot_z + math.sqrt(r.flipper_len ** 2 - r.pulley_r ** 2) - r.flipper_tip_r > top
+        for f in range(4):
+            if f < 2 and not (reach or self.over):
+                continue  # the front flipper tips are still below the edge: they stay raised against the riser
+            if f >= 2 and not self.over:
+                continue  # the rear flippers push once the front is over (before, they would pitch the nose down)
+            if obs.pitch > cfg.climb_pitch:
+                c.flip[f] = max(c.flip[f], obs.q_flip[f])  # the nose is up enough: hold
+                continue
+            c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
+        if self.s > self.s_release and h > 0.0:
+            self.release_pitch = obs.pitch
+            self.machine.go(obs.t, RELEASE, f"H - H_EST = {h:.3f} m > 0, S = {self.s:.3f} m > {self.s_release:.2f} m")
+
     def _climb(self, obs) -> None:
         """Eqs. 28-29 with a vertical lift and the crawlers loaded (docs/assumptions-octopus.md).
 
@@ -277,8 +390,13 @@ class CLMController(MachineController):
         booms up by dE a tick to their rest angle, flippers up by dF to 0, then walk.
         """
         cfg, c = self.cfg, self.cmd
+        if cfg.nose_climb and self.state == CLIMB:
+            self._climb_nose(obs)
+            return
         c.track[:] = cfg.climb_track_speed
         h = cog_height(self.tip_c[2:], cfg.h2)
+        if cfg.nose_climb:
+            h = self._h_over()  # RELEASE of the nose climb: H - H_EST from the front tips
         if self.state == CLIMB:
             if h >= self.h_est:
                 self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
@@ -311,6 +429,7 @@ class CLMController(MachineController):
                 # over the top (odometry counted slip): lift again and drive on
                 self.s_release = self.s + cfg.release_more
                 self.lift_tgt = self.tip_r.copy()
+                self._nose_start(obs, resume=True)
                 self.machine.go(obs.t, CLIMB, f"pitch rose {obs.pitch - self.release_pitch:.2f} rad > "
                            f"{cfg.release_tilt} while releasing: drive {cfg.release_more} m more")
                 return
@@ -391,6 +510,7 @@ class CLMController(MachineController):
                 self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
                 self.s, self.s_release, self.resumes = 0.0, cfg.climb_distance, 0
                 self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
+                self._nose_start(obs)
                 why = ("front flippers at the limit" if at_limit else
                        f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
                        f"nose up {obs.pitch:.2f} rad")

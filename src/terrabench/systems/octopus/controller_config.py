@@ -188,6 +188,22 @@ class CLMConfig:
                              doc="while the lifted body drives, the supporting tips hold their footholds (their "
                                  "targets move back by the crawler travel, as in walking), so a front tip on a short "
                                  "tread does not roll into the next riser and block the climb")
+    nose_climb: bool = param(True,
+                             doc="the climb of the paper's Fig. 9 (:meth:`.clm.CLMController._climb_nose`): the front "
+                                 "booms lift the nose toward climb_pitch while the crawlers drive into the riser and "
+                                 "the front flippers come down onto the top as soon as they reach it ('flippers ... and "
+                                 "all boom joints ... rotate down to lift robot body', 'by the friction force generated "
+                                 "from crawlers and step, robot can move forward slowly'); the rear arms press with a "
+                                 "bounded force (the rear crawlers stay loaded) and lift clear once their foothold "
+                                 "leaves their range. False: the level four-arm hoist of issue 21 (a control)")
+    climb_pitch: float = param(0.6, gt=0, le=math.pi / 2, unit="rad",
+                               doc="nose-up pitch the front booms lift toward in the nose climb (nose_climb); above it "
+                                   "they hold [P: the CLM climb's largest pitch, 0.6 rad]; below the walk guard "
+                                   "guard_pitch, which backs the crawlers off in the climb too (the stability monitor)")
+    climb_press: float = param(0.01, ge=0, unit="m",
+                               doc="nose climb: a pressing (not lifting) tip's target sits this far below its sensed "
+                                   "height plus the tick's predicted motion (eqs. 22-27 in x and z): a bounded press "
+                                   "(~2x press), so the arms assist and the crawlers carry the rest")
 
 
 @dataclass(frozen=True)

@@ -295,7 +295,8 @@ def render_trial(system: System, spec: TrialSpec, out_path: str | Path, fps: flo
     out_path = Path(out_path)
     _check_suffix(out_path)
     _check_fps(fps)
-    if isinstance(speedup, bool) or not isinstance(speedup, (int, float)) or not (math.isfinite(speedup) and speedup > 0):
+    if isinstance(speedup, bool) or not isinstance(speedup, (int, float)) or not (
+            math.isfinite(speedup) and speedup > 0):
         raise ValueError(f"speedup must be a finite number > 0, got {speedup!r}")
     check_frame_size(out_path, width, height)
     t0 = time.perf_counter()

@@ -112,3 +112,16 @@ def test_clm_does_not_walk_itself_over_a_riser_beyond_its_reach():
     """550 mm (beyond the arms): without the walk's pitch guard CLM turned over here (77.8 s)."""
     r = _run("clm", "sweep-h550")
     assert r.status != "turned_over" and abs(r.metrics["max_pitch"]) < 1.0
+
+
+def test_clm_nose_climb_pitches_up_on_loaded_crawlers():
+    """The opt-in climb of the paper's Fig. 9 (``clm.nose_climb``): on step-400 the front booms lift
+    the nose toward ``climb_pitch`` while the rear crawlers stay on the ground, so the crawlers keep
+    a far larger share of the load through the climb than in the level four-arm hoist (the default,
+    whose every arm carries the robot at once: share 0 measured), and the robot still gets on top."""
+    hoist = _run("clm", "step-400")
+    nose = _run("clm", "step-400", **{"clm.nose_climb": True})
+    assert nose.status == "success" and hoist.status == "success"
+    assert any("front pulley" in e[3] and "over the top" in e[3] for e in _events(nose))
+    assert 0.45 < nose.metrics["max_pitch_rad"] < 0.8 and hoist.metrics["max_pitch_rad"] < 0.35
+    assert nose.metrics["crawler_load_share_min"] > 0.3 > hoist.metrics["crawler_load_share_min"]

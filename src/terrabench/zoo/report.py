@@ -247,7 +247,8 @@ def _contrast_clips(page, system, rows: list[dict[str, Any]], pairs, slug: str) 
                 continue
             spec = TrialSpec(system.id, r["scenario"], r["method"], r["instance"], r["seed"], r["config"])
             name = f"clip_{inst.replace('@', '_')}_{p['method'].replace('.', '_')}{slug}.mp4"
-            page.clip(name, f"{p['method']} on {inst} (seed {r['seed']}): {r['status']} at {(r.get('metrics') or {}).get('sim_time', float('nan')):.1f} s; "
+            t_end = (r.get("metrics") or {}).get("sim_time", float("nan"))
+            page.clip(name, f"{p['method']} on {inst} (seed {r['seed']}): {r['status']} at {t_end:.1f} s; "
                       f"the first {CLIP_SECONDS:g} s at {CLIP_SPEEDUP:g}x real time (<code>terrabench render zoo "
                       f"--method {p['method']} --terrain {inst}</code>)", system, spec, CLIP_SECONDS, every=None,
                       fps=25.0, speedup=CLIP_SPEEDUP, width=640, height=360)

@@ -279,6 +279,7 @@ class CLMController(MachineController):
             self.pitch0 = obs.pitch  # the pitch of the ground the crawlers drive on
         self.prev_pitch = obs.pitch
         self.over = resume
+        self.up = resume
 
     def _rear_pivot(self, obs) -> np.ndarray:
         """The rear ground contact in {R} (x, z) the body pitches about: the lower in {C} of the rear
@@ -292,37 +293,61 @@ class CLMController(MachineController):
         return tip if zc(tip) < zc(pul) else pul
 
     def _climb_nose(self, obs) -> None:
-        """The climb of the paper's Fig. 9 (eqs. 28-29, ``nose_climb``).
+        """The climb of the paper's Fig. 9 (eqs. 28-29, opt-in ``nose_climb``).
 
-        The crawlers drive at ``climb_track_speed`` into and up the riser (backing off beyond
-        ``guard_pitch``, the stability monitor). The front booms lift the nose: their tip targets in
-        {R} move down by ``lift_dz`` a tick while the pitch is below ``climb_pitch`` and the front
-        is not yet over the top (H - H_EST < ``lift_margin``, :meth:`_h_over`); above it they hold.
-        Once over, they unload (targets up by ``lift_dz`` a tick to a press) and press. The rear arms
-        press with a bounded force from the start (target ``climb_press`` below the sensed tip), so
-        the rear crawlers stay loaded; an arm whose foothold leaves its range lifts clear (to A_B).
-        Every support's target moves each tick by the prediction of eqs. 22-27 in x and z: the body's
-        pitch change (IMU) about the rear ground contact (:meth:`_rear_pivot`) and the crawler travel
-        L along the ground the crawlers stand on (pitch at the climb start). Flippers: eq. 29 with a
-        torque-limited lead (``flip_lead``); the front ones wait until their tips can reach the top
-        (the pivot plus the flipper above the top, in {C}), then come down onto it.
-        S (eq. 5) counts from H >= H_EST; release at S > L as before.
+        Crawlers: ``climb_track_speed`` into and up the riser; beyond ``guard_pitch`` (the stability
+        monitor) they stop. Front booms: their tip targets in {R} move down by ``lift_dz`` a tick
+        while the pitch is below ``climb_pitch`` (the nose rises about the rear crawlers; x turned
+        with the measured pitch change, z not: see the comment below), until the front pulley's
+        bottom is ``lift_margin`` over the top (``over``; the top from the rear tips + H_EST); then
+        they unload at ``lift_dz`` a tick to a ``climb_press`` press and lift clear. Rear arms: a
+        bounded press (``climb_press`` below the sensed tip, z turned about the rear ground contact,
+        :meth:`_rear_pivot`) until ``over``, then they lift the rear (eq. 28) until H exceeds H_EST
+        by ``lift_margin`` or the body is back at its pitch before the climb; an arm whose foothold
+        leaves its range lifts clear (A_B). Footholds move by the crawler travel (eqs. 22-27) only
+        once the rear is up (``up``, latched: H within ``lift_margin`` of H_EST, or the front over
+        and the body level); before that the crawlers push on the riser and odometry would count
+        slip. Flippers (eq. 29, torque-limited lead ``flip_lead``, quasi-static ``release_d_f``):
+        the front ones wait until their tips clear the edge, come down while the nose is below
+        ``climb_pitch``, and lie level on the top once over (back to ``flipper_start`` when the nose
+        rises on a next riser); the rear ones push once the nose is up or the front over, and come
+        back to 0 once the rear is up. S (eq. 5) counts from ``up``; release at S > L with the nose
+        below ``mount_pitch`` (not while it is up on the next riser of a short tread).
         """
         cfg, c, r = self.cfg, self.cmd, self.robot
         v = cfg.climb_track_speed
         if obs.pitch > cfg.guard_pitch:
-            v = -v
+            # the stability monitor: the crawlers stop (backing off on the rolling rear tips would
+            # only roll the pitched robot away from the step) while the rear booms bring the nose down
+            v = 0.0
             if not self.guarding:
                 self.machine.note(obs.t, "climb", "climb", f"pitch {obs.pitch:.2f} rad > {cfg.guard_pitch}: "
-                                  "crawlers back off")
+                                  "crawlers stop")
         self.guarding = obs.pitch > cfg.guard_pitch
         c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
         h = self._h_over()
-        if h >= 0.0:
+        h_rear = cog_height(self.tip_c[2:], cfg.h2)  # H (eqs. 10-12) from the rear tips
+        # the front crawlers on the top: the track bottom reaches the top's level (H = H_EST) when
+        # the rear is up, not above it, so "H >= H_EST" is read within lift_margin
+        # latched (the rear arms may lift clear): H within lift_margin of H_EST, or the front on the
+        # top and the body back to its pitch before the climb (the rear pulley then within
+        # lift_margin of the front's level: the rear is up too, whatever ground the rear tips are on)
+        level = self.over and obs.pitch - self.pitch0 < cfg.lift_margin / (2 * r.pulley_x)
+        self.up = self.up or h_rear >= self.h_est - cfg.lift_margin or level
+        up = self.up
+        if up:
             self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)
-        if h > cfg.lift_margin and not self.over:
+        # the front is over the top once the front pulley's bottom is above it ({C}: encoders + IMU)
+        # the top's height in {C}: the rear ground (the lower rear tip still down there) + H_EST,
+        # which holds when the front tips are off the top
+        rear = [self.tip_c[j, 2] for j in (2, 3) if not self.lifted[j]]
+        top = (min(rear) - r.tip_r + self.h_est if rear and not self.up
+               else float(np.mean(self.tip_c[:2, 2])) - r.tip_r)
+        pulley_bottom = r.pulley_x * math.sin(obs.pitch) - r.pulley_r
+        if pulley_bottom > top + cfg.lift_margin and not self.over:
             self.over = True
-            self.machine.note(obs.t, "climb", "climb", f"front over the top (H - H_EST = {h:.3f} m): front arms unload")
+            self.machine.note(obs.t, "climb", "climb", f"front pulley {pulley_bottom - top:.3f} m over the top: "
+                              "front arms unload")
         # eqs. 22-27 for every support: rotation by the pitch change about the rear contact, then travel
         dth = obs.pitch - self.prev_pitch
         self.prev_pitch = obs.pitch
@@ -335,19 +360,50 @@ class CLMController(MachineController):
             if self.lifted[i]:
                 continue
             t = self.lift_tgt[i]
-            dx, dz = t[0] - piv[0], t[2] - piv[1]
-            t[0], t[2] = piv[0] + dx * cs + dz * sn - lx, piv[1] - dx * sn + dz * cs - lz
             front = i < 2
             if front and not self.over:
+                # a lifting boom: its target moves down in {R} (a position lift, self-limiting). The
+                # pitch-change prediction moves x only: in z it closes a loop through the free roller
+                # (the body turns about a point ahead of the assumed pivot as the tip rolls: measured,
+                # pitch 0.2 -> 0.9 rad in 0.5 s); without it in z the push eases as the nose rises.
+                # No travel: the body is against the riser (travel counts from H >= H_EST)
+                if cfg.climb_hold:
+                    t[0] = piv[0] + (t[0] - piv[0]) * cs + (t[2] - piv[1]) * sn
                 if obs.pitch < cfg.climb_pitch and h < cfg.lift_margin:
+                    t[2] -= cfg.lift_dz
+                # a tip the rising nose has lifted off the top comes down onto it again (a loaded
+                # tip sits above its target by more than the press: unchanged)
+                t[2] = min(t[2], self.tip_r[i, 2] - cfg.climb_press)
+                c.arm[i] = ak.ik(t, r, k)
+                continue
+            # a pressing (or pushing) arm: from its sensed tip (x) and its target (z), the tick's
+            # predicted motion; x does not accumulate (odometry counts while the crawlers are blocked)
+            x0 = t[0]
+            dx, dz = t[0] - piv[0], t[2] - piv[1]
+            t[0], t[2] = piv[0] + dx * cs + dz * sn - lx, piv[1] - dx * sn + dz * cs - lz
+            if not front:
+                # x: the rear tips keep their footholds (a pitch-change prediction about the rear
+                # contact moved them more: measured, tip slip 0.37 -> 0.45 m); the body advances only
+                # once lifted over the edge (S's rule: odometry from H >= H_EST), before that its
+                # crawlers push on the riser
+                t[0] = x0 - (lx if up else 0.0)
+            if not front and self.over:
+                # the front on the top, on its crawlers: the rear booms lift the rear (eq. 28) until H
+                # (the rear tips, on the lower ground) exceeds H_EST by lift_margin, the nose not below
+                # -climb_pitch; the front crawlers carry the front, the rear flippers push
+                if h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0:
                     t[2] -= cfg.lift_dz
             else:
                 # press: the target at most climb_press below the sensed tip (a lifting arm unloads
                 # at lift_dz a tick)
-                t[2] = max(t[2], min(t[2] + cfg.lift_dz, self.tip_r[i, 2] - cfg.climb_press))
+                t[2] = min(t[2] + cfg.lift_dz, self.tip_r[i, 2] - cfg.climb_press)
             sx, sy = CORNER[k]
             beyond = ((t[0] < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
                       or math.hypot(t[0] - sx * mx, t[1] - sy * my) > cfg.reach_max)
+            # a front arm over the top has unloaded (its target back at the press): the front crawlers
+            # carry the front now, and the arm lifts clear (pressing on, it would straighten into a
+            # strut as the nose rises)
+            beyond = beyond or (front and t[2] >= self.tip_r[i, 2] - cfg.climb_press - 1e-6)
             if beyond and (not front or self.over):
                 self.lifted[i] = True
                 self.contact[i] = False
@@ -359,21 +415,35 @@ class CLMController(MachineController):
         # flippers, eq. 29 (A' - dF) with a torque-limited lead
         # the front flipper tip clears the edge when, a pulley radius ahead of its pivot (the pulley
         # against the riser), its tip pulley's bottom is above the top
-        top = float(np.mean(self.tip_c[:2, 2])) - r.tip_r
         pivot_z = r.pulley_x * math.sin(obs.pitch)
         reach = pivot_z + math.sqrt(r.flipper_len ** 2 - r.pulley_r ** 2) - r.flipper_tip_r > top
         for f in range(4):
             if f < 2 and not (reach or self.over):
                 continue  # the front flipper tips are still below the edge: they stay raised against the riser
-            if f >= 2 and not self.over:
-                continue  # the rear flippers push once the front is over (before, they would pitch the nose down)
-            if obs.pitch > cfg.climb_pitch:
-                c.flip[f] = max(c.flip[f], obs.q_flip[f])  # the nose is up enough: hold
-                continue
-            c.flip[f] = max(c.flip[f] - cfg.d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
-        if self.s > self.s_release and h > 0.0:
+            if f < 2 and self.over:
+                # on the top: level there (-pitch, as CCM's press), pressing it would stand the nose up;
+                # the nose up again with the rear over the edge: the next riser (a short tread), the
+                # flippers go back to their cruise angle so their undersides meet its edge
+                goal = cfg.flipper_start if (up and obs.pitch > cfg.mount_pitch) else max(-obs.pitch, cfg.flip_min)
+                c.flip[f] += float(np.clip(goal - c.flip[f], -cfg.release_d_f, cfg.release_d_f))
+            elif f < 2:
+                if obs.pitch > cfg.climb_pitch:
+                    c.flip[f] = max(c.flip[f], obs.q_flip[f])  # the nose is up enough: hold
+                    continue
+                # onto the top at the release's quasi-static rate: a pressing flipper levers the nose up
+                c.flip[f] = max(c.flip[f] - cfg.release_d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
+            elif up:
+                # the rear over the top's level: the rear flippers come back up (pushing on, they
+                # would stand the rear up on the top)
+                c.flip[f] = min(c.flip[f] + cfg.release_d_f, 0.0)
+            elif obs.pitch > cfg.climb_pitch or self.over:
+                # the rear flippers push the rear up once the nose is up (before, they would pitch it down)
+                c.flip[f] = max(c.flip[f] - cfg.release_d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
+        # released on the top, not while the nose is up on the next riser (a short tread): the
+        # crawlers drive on up it (a riser below the flippers' reach) before the release
+        if self.s > self.s_release and up and obs.pitch < cfg.mount_pitch:
             self.release_pitch = obs.pitch
-            self.machine.go(obs.t, RELEASE, f"H - H_EST = {h:.3f} m > 0, S = {self.s:.3f} m > {self.s_release:.2f} m")
+            self.machine.go(obs.t, RELEASE, f"H = {h_rear:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
 
     def _climb(self, obs) -> None:
         """Eqs. 28-29 with a vertical lift and the crawlers loaded (docs/assumptions-octopus.md).
@@ -395,8 +465,6 @@ class CLMController(MachineController):
             return
         c.track[:] = cfg.climb_track_speed
         h = cog_height(self.tip_c[2:], cfg.h2)
-        if cfg.nose_climb:
-            h = self._h_over()  # RELEASE of the nose climb: H - H_EST from the front tips
         if self.state == CLIMB:
             if h >= self.h_est:
                 self.s = travel(self.s, cfg.climb_track_speed, obs.pitch, self.dt)

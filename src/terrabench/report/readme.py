@@ -556,9 +556,9 @@ def block_srwmr_tasks(src: Sources) -> Block:
     statuses = ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])))
     body = (f"`terrabench run srwmr --group tasks` ({n} trials, seed 0, on "
             f"{len({r.get('task') for r in rows})} task instances: {statuses}): body slip s_b, progress along the "
-            "task, simulated time and energy beside what the paper reports for the task. Our energies are "
-            "mechanical (|tau w| of all actuators); the paper's units are inconsistent (`docs/srwmr.md`), so the "
-            "two are not on one scale:\n\n"
+            "task, simulated time and energy beside what the paper reports for the task. Our energies are the "
+            "motors' electrical input (the motor model, `motors.HIT_MRII`; the mechanical |tau w| is the CSV's "
+            "`mech kJ`); the paper's units are inconsistent (`docs/srwmr.md`), so the two are not on one scale:\n\n"
             + table(["task", "mode", "status", "s_b", "progress m", "time s", "energy kJ", "paper"], out))
     return src.block(body)
 

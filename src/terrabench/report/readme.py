@@ -427,10 +427,10 @@ def block_octopus(src: Sources) -> Block:
             f"others ended and the paper's result; the extreme pitch and the lowest static stability margin of "
             f"{lead} over the seeds, the paper's in parentheses:\n\n"
             + table(["task"] + modes + [f"{lead} max pitch rad", f"{lead} min margin m"], out))
-    pairs = [(fnum(o), fnum(p)) for o, p in (_paren(r.get("min margin m", "")) for r in rows)]
+    pairs = [(fnum(o), fnum(p)) for o, p in (_paren(r.get("min margin m", "")) for r in rows if r.get("mode") == lead)]
     margins = [(o, p) for o, p in pairs if o is not None and p is not None]
     if margins:
-        body += (f"\n\nWhere the paper gives a static margin, ours is {span([o for o, _ in margins], 2, ' m')} "
+        body += (f"\n\nWhere the paper gives a static margin, {lead}'s is {span([o for o, _ in margins], 2, ' m')} "
                  f"against its {span([p for _, p in margins], 2, ' m')}.")
     return src.block(body)
 

@@ -38,6 +38,18 @@ class ZooRules:
         self._zoo_pose: tuple[float, float, float, float, float] = (0.0,) * 5
         self.columns = tuple(type(self).columns) + ZOO_COLUMNS
 
+    def start_y(self, seed: int) -> float:
+        """The start's sideways offset (m): 0 at seed 0 (the reference start), else drawn from
+        +-``protocol.start_jitter`` by the seed."""
+        j = self.zoo.protocol.start_jitter
+        return float(np.random.default_rng(seed).uniform(-j, j)) if seed else 0.0
+
+    def bind(self, model: Any, data: Any) -> Any:
+        """The robot's own bind, then the rearmost point at the start (the progress origin)."""
+        obs = super().bind(model, data)  # type: ignore[misc]
+        self.zoo_start = self.pose()[0]
+        return obs
+
     def pose(self) -> tuple[float, float, float, float, float]:
         """(rearmost x, reference y, lowest tracked body z, roll, pitch) now (m, rad). Default, a
         one-body robot: the rear end ``footprint.length - footprint.front`` behind the ``chassis``
@@ -94,7 +106,7 @@ class ZooRules:
     def metrics(self, log: Any) -> dict[str, float]:
         own = super().metrics(log)  # type: ignore[misc]
         out = {f"robot_{k}": float(v) for k, v in own.items() if isinstance(v, (int, float))}
-        out.update(zoo_metrics(log, self.footprint.mass, self.course.goal_x, getattr(self, "zoo_start", None)))
+        out.update(zoo_metrics(log, self.footprint.mass, self.course.goal_x, self.zoo_start))
         return out
 
     def zoo_info(self) -> dict[str, Any]:

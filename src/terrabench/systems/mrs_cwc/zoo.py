@@ -13,7 +13,6 @@ from dataclasses import replace
 from typing import Any
 
 import mujoco
-import numpy as np
 
 from terrabench.config import to_dict
 from terrabench.sim.checks import roll_pitch
@@ -41,8 +40,7 @@ class ZooMRSTask(ZooRules, MRSTask):
     def __init__(self, method: str, course: Any, cfg: MRSConfig, zoo: Any, footprint: Footprint, timeout: float,
                  seed: int = 0):
         self.course, self.zoo, self.footprint = course, zoo, footprint
-        j = zoo.protocol.start_jitter
-        y0 = float(np.random.default_rng(seed).uniform(-j, j)) if seed else 0.0
+        y0 = self.start_y(seed)
         lead = cfg.chain.bumper_ahead + cfg.chain.bumper_radius  # leader centre to its front
         pr = replace(cfg.protocol, start_xy=(course.start_front - lead, y0),
                      target_xy=(course.goal_x + TARGET_AHEAD, 0.0), timeout=timeout)
@@ -50,6 +48,7 @@ class ZooMRSTask(ZooRules, MRSTask):
         self.physics = cfg.physics
         self.timing = Timing(pr.control_period, timeout, pr.divergence_check_period, pr.log_period)
         self.start_z = float("nan")
+        self._half_body = 0.5 * cfg.chain.body_length
         self.instance = f"{course.family}@{course.severity:g}"
         self.zoo_init()
 
@@ -63,12 +62,9 @@ class ZooMRSTask(ZooRules, MRSTask):
         add_chain(spec, self.method.variant, (sx, sy, self.start_z), ch)
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData):
-        obs = super().bind(model, data)
         # the energy per m kg uses this build's mass (MRS-D has no link masses: 41.9 kg, not 45.9)
         self.footprint = replace(self.footprint, mass=float(model.body_mass[1:].sum()))
-        self._half_body = 0.5 * self.cfg.chain.body_length
-        self.zoo_start = self.pose()[0]
-        return obs
+        return super().bind(model, data)
 
     def pose(self) -> tuple[float, float, float, float, float]:
         d, units = self.data, self.unit_bodies

@@ -11,7 +11,6 @@ from __future__ import annotations
 from typing import Any
 
 import mujoco
-import numpy as np
 
 from terrabench.sim.episode import Timing
 from terrabench.systems.octopus.ccm import CCMController
@@ -39,8 +38,7 @@ class ZooOctopusTask(ZooRules, OctopusTask):
         pr = cfg.protocol
         self.physics = cfg.physics
         self.timing = Timing(pr.control_period, timeout, pr.check_period, pr.log_period)
-        j = zoo.protocol.start_jitter
-        y0 = float(np.random.default_rng(seed).uniform(-j, j)) if seed else 0.0
+        y0 = self.start_y(seed)
         x0 = course.start_front - footprint.front
         self.layout = Layout("zoo", (), course.goal_x, 0.0, 0.0, (x0, y0), 0.0)
         self.camera = {"azimuth": 90.0, "elevation": -12.0}
@@ -58,11 +56,6 @@ class ZooOctopusTask(ZooRules, OctopusTask):
         self._q0 = {Names.arm_joint(k, "swing"): (0.9 if k[1] == "F" else -0.6) for k in ARMS}
         self._q0.update({Names.arm_joint(k, "boom"): -0.3 for k in ARMS})
         self._q0.update({Names.arm_joint(k, "elbow"): 1.0 for k in ARMS})
-
-    def bind(self, model: mujoco.MjModel, data: mujoco.MjData):
-        obs = super().bind(model, data)
-        self.zoo_start = self.pose()[0]
-        return obs
 
     def info(self) -> dict:
         return self.zoo_info()

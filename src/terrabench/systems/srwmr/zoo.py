@@ -50,8 +50,7 @@ class ZooSRWMRTask(ZooRules, SRWMRTask):
         self.instance = f"{course.family}@{course.severity:g}"
         self.course, self.zoo, self.footprint = course, zoo, footprint
         r = cfg.robot
-        j = zoo.protocol.start_jitter
-        y0 = float(np.random.default_rng(seed).uniform(-j, j)) if seed else 0.0
+        y0 = self.start_y(seed)
         x0 = course.start_front - r.nose
         self.start = (x0, y0, 0.0)
         self.goal_chassis = course.goal_x + r.tail  # the chassis x when the rear wheels' edge crosses
@@ -92,7 +91,6 @@ class ZooSRWMRTask(ZooRules, SRWMRTask):
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData):
         obs = super().bind(model, data)
-        self.zoo_start = self.pose()[0]
         self._zoo_mode = None
         return obs
 

@@ -23,6 +23,8 @@ STATUS_MEANINGS = {
     "fell": "the robot fell off or out of the world",
     "stuck": "no progress for the system's stall time, or a controller gave up",
     "turned_over": "the body tilted past the system's turned-over limit",
+    "tipped_back": "the robot tipped over backwards: its COG passed behind its rearmost loaded ground contact with "
+                   "the nose up and rising (a physical condition, not an angle)",
     "diverged": "the simulation blew up (non-finite state, a speed above physics.max_speed, or MuJoCo reset "
                 "the state): a numerical failure, not an outcome of the method",
     "error": "the trial raised, its worker died or it ran past its wall-time budget: a fault of the run, "

@@ -1,14 +1,18 @@
-"""OCTOPUS climbs (issue 21): terrace by terrace, the riser stall, the block ride-over, CCM's abort."""
+"""OCTOPUS climbs (issue 21): terrace by terrace, the riser stall, the block ride-over, CCM's abort
+and its tip-back (issue 28, piece 5)."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from terrabench.benchmark.trial import TrialSpec
+from terrabench.sim.checks import turned_over
 from terrabench.systems.octopus.ccm import tip_back_angle
 from terrabench.systems.octopus.robot import RobotConfig
 from terrabench.systems.octopus.scenarios import SYSTEM
+from terrabench.systems.octopus.task import TIP_BACK_HOLD, TURN_OVER_PITCH, OctopusTask
 
 
 def _run(method: str, instance: str, seed: int = 0, **overrides):
@@ -42,17 +46,92 @@ def test_tip_back_angle_puts_the_cog_over_the_pivot():
     assert 0.85 < tip_back_angle(-0.9, 0.9, rc, zc) < 1.0   # the fall measured on step-400 begins ~0.95 rad
 
 
-def test_ccm_abort_is_reached_before_the_turn_over():
-    """The abort fires at the tip-back angle (a physical condition, not the 1.2 rad stop), and the
-    paper's outcome remains: CCM turns over on the 400 mm step."""
+def test_ccm_tips_back_on_the_400_mm_step():
+    """The paper's CCM failure as physics: on step-400 the COG passes behind the rearmost loaded
+    contact (the rear flipper tips) with the nose up and rising: ``tipped_back``, well below the
+    old 1.2 rad stop; the controller's abort at its own tip-back angle comes within the hold."""
     r = _run("ccm", "step-400")
-    assert r.status == "turned_over"
-    (ab,) = _mode_events(r, "abort")
-    assert "tip-back" in ab[3]
-    # the pitch at the abort is below the turned-over threshold, and the turn-over follows it
+    assert r.status == "tipped_back", r.info["reason"]
+    tb = r.info["tip_back"]
+    assert "behind the rearmost loaded contact" in r.info["reason"]
+    assert 0.8 < tb["pitch"] < 1.0 and tb["behind_m"] > 0 and tb["behind_held_m"] > tb["behind_m"]
+    assert tb["t_held"] - tb["t"] == pytest.approx(TIP_BACK_HOLD, abs=1e-6) and tb["pitch_held"] > tb["pitch"]
     ts = r.timeseries
-    i = int(np.searchsorted(ts["t"], ab[0]))
-    assert 0.8 < ts["pitch"][i] < 1.2 and ts["t"][-1] > ab[0]
+    assert ts["pitch"].max() < 1.2 and ts["t"][-1] == pytest.approx(tb["t_held"] + 0.02, abs=1e-6)
+    (ab,) = _mode_events(r, "abort")
+    assert "tip-back" in ab[3] and tb["t"] <= ab[0] <= tb["t_held"]
+
+
+def test_ccm_without_the_rear_push_is_not_tipped_back():
+    """``ccm.rear_push=0``: the nose rises past 1.2 rad (labelled ``turned_over`` at 15.6 s by the
+    old angle stop) with the COG still ahead of the rear contact: not tipped back; the abort
+    stops the robot against the riser and it ends ``stuck``."""
+    r = _run("ccm", "step-400", **{"ccm.rear_push": 0.0})
+    assert r.status == "stuck" and "tip_back" not in r.info
+    assert 1.2 < r.metrics["max_pitch"] < TURN_OVER_PITCH
+
+
+def _rule_stub():
+    """An object with what :meth:`OctopusTask._tip_back` reads: the chassis x axis (a view, as
+    in the task), the chassis quaternion, the run state."""
+    st = SimpleNamespace(chassis=0, data=SimpleNamespace(xquat=np.zeros((1, 4))), _ax=np.zeros(3),
+                         _behind=None, _rear_prev=(math.nan, False), _tipped=None,
+                         _rear_end=np.array([True, False]))  # geom 0: a rear end (flipper tip), 1: a track run
+
+    def row(t, pitch, cog_x, contacts_x, rear_geom=0):
+        # nose up = a rotation about -y: x axis (cos p, 0, sin p); the first contact is on rear_geom
+        st.data.xquat[0] = (math.cos(pitch / 2), 0.0, -math.sin(pitch / 2), 0.0)
+        st._ax[:] = (math.cos(pitch), 0.0, math.sin(pitch))
+        loaded = np.array([[x, y] for x in contacts_x for y in (-0.3, 0.3)])
+        geoms = np.array([rear_geom if i < 2 else 1 for i in range(len(loaded))])
+        OctopusTask._tip_back(st, t, loaded, geoms, np.array([cog_x, 0.0]))
+        return st._tipped
+
+    return st, row
+
+
+def test_tip_back_rule_fires_when_the_cog_passes_behind_the_rear_contact():
+    """The COG crosses the rear contact (0.0 m) at 1 cm a row with the nose rising: the event
+    holds TIP_BACK_HOLD after the crossing row, not before; its figures are the crossing's."""
+    st, row = _rule_stub()
+    p, t = 0.85, 0.0
+    for k, cog in enumerate((0.03, 0.02, 0.01, -0.005, -0.015)):
+        t, p = 0.1 * k, p + 0.02
+        assert row(t, p, cog, (0.0, 0.5)) is None
+    ev = row(0.5, p + 0.02, -0.025, (0.0, 0.5))
+    assert ev is not None and ev["t"] == pytest.approx(0.3) and ev["behind_m"] == pytest.approx(0.005)
+    assert ev["t_held"] - ev["t"] >= TIP_BACK_HOLD - 1e-9 and "0.5 cm behind" in ev["reason"]
+
+
+def test_tip_back_rule_ignores_stable_high_pitch_unloading_and_nose_down():
+    """Not tipped back: a high pitch with the COG ahead of the rear contact (statically stable,
+    as CCM without the rear push at 1.2 rad); the rear contact unloaded for a row or for long
+    (the rearmost loaded contact jumps 0.45 m ahead: another contact carries the load, the COG
+    did not pass one); the COG behind the contact with the nose falling (a recovery); nose down;
+    the COG passing behind an edge under the track run (a seesaw: the track behind lands)."""
+    _, row = _rule_stub()
+    assert all(row(0.1 * k, 1.3, 0.09, (0.0, 0.5)) is None for k in range(10))
+    _, row = _rule_stub()
+    for k in range(10):
+        rear = (0.45,) if k >= 3 else (0.0, 0.45)   # from row 3 on only the front contact is loaded
+        assert row(0.1 * k, 0.1 + 0.02 * k, 0.05, rear) is None
+    _, row = _rule_stub()
+    assert row(0.0, 0.9, 0.01, (0.0, 0.5)) is None
+    assert all(row(0.1 * k, 0.9 - 0.01 * k, -0.01, (0.0, 0.5)) is None for k in range(1, 10))
+    _, row = _rule_stub()
+    assert all(row(0.1 * k, 0.001 + 0.01 * k, 0.03 - 0.01 * k, (0.0, 0.5), rear_geom=1) is None for k in range(10))
+    _, row = _rule_stub()
+    assert row(0.0, -0.5, 0.01, (0.0, 0.5)) is None
+    assert all(row(0.1 * k, -0.5 - 0.02 * k, -0.01 - 0.01 * k, (0.0, 0.5)) is None for k in range(1, 10))
+
+
+def test_turned_over_keeps_the_pitch_only_as_a_last_resort():
+    """The octopus task's attitude guard: |roll| on protocol.turn_over, |pitch| on TURN_OVER_PITCH."""
+    assert turned_over(0.0, 1.5, 1.2, TURN_OVER_PITCH) is None
+    assert turned_over(1.25, 0.0, 1.2, TURN_OVER_PITCH)[0] == "turned_over"
+    status, reason = turned_over(0.0, 1.65, 1.2, TURN_OVER_PITCH)
+    assert status == "turned_over" and "1.65" in reason and "1.6" in reason
+    assert turned_over(0.0, 1.25, 1.2) is not None   # other systems: one limit for both
 
 
 def test_clm_climbs_a_low_riser_where_the_flipper_rule_stalls():

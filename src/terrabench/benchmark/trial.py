@@ -16,10 +16,13 @@ import numpy as np
 
 #: Every status a trial can end with. ``success`` is the only one counted as a success.
 #: ``timeout`` is a truncation (the time limit, not a failure of the robot's physics: Gymnasium
-#: envs report it as ``truncated``); ``fell``, ``stuck``, ``turned_over`` are the robot's
-#: failures; ``diverged`` is the physics blowing up; ``error`` is a fault (a bug, a dead worker),
-#: retried by the next run; ``done`` ends trials that have no success criterion (estimation).
-STATUSES = ("success", "timeout", "fell", "stuck", "turned_over", "diverged", "error", "done")
+#: envs report it as ``truncated``); ``fell``, ``stuck``, ``turned_over``, ``tipped_back`` are the
+#: robot's failures (``tipped_back``: the COG passed behind the rearmost loaded contact, nose up, a
+#: physical tip-over backwards rather than an attitude limit); ``diverged`` is the physics blowing
+#: up; ``error`` is a fault (a bug, a dead worker), retried by the next run; ``done`` ends trials
+#: that have no success criterion (estimation).
+STATUSES = ("success", "timeout", "fell", "stuck", "turned_over", "tipped_back", "diverged", "error",
+            "done")
 #: Statuses that truncate an episode rather than terminate it.
 TRUNCATIONS = ("timeout",)
 

@@ -1,5 +1,6 @@
 """Stop rules every system shares, written once: turned over, fallen, stalled, past the goal
-line, a controller's stop request (its plan complete, a health halt).
+line, a controller's stop request (its plan complete, a health halt). A system's own physical
+rule (OCTOPUS's ``tipped_back``: the COG behind its rearmost loaded contact) lives in its task.
 
 Each rule returns ``(status, reason)`` when it fires and None otherwise, the shape a task's
 ``check`` returns (:class:`terrabench.systems.base.Task`); a task's ``check`` is the sequence of
@@ -24,10 +25,14 @@ def roll_pitch(quat) -> tuple[float, float]:
     return math.atan2(r21, r22), math.asin(max(-1.0, min(1.0, r20)))
 
 
-def turned_over(roll: float, pitch: float, limit: float) -> tuple[str, str] | None:
-    """``turned_over`` once |roll| or |pitch| exceeds ``limit`` (rad)."""
-    if abs(roll) > limit or abs(pitch) > limit:
-        return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {limit} rad"
+def turned_over(roll: float, pitch: float, limit: float, pitch_limit: float | None = None) -> tuple[str, str] | None:
+    """``turned_over`` once |roll| exceeds ``limit`` or |pitch| exceeds ``pitch_limit`` (rad; None:
+    ``limit`` too). A system whose backward fall has a physical rule of its own (OCTOPUS:
+    ``tipped_back``) keeps the pitch limit only as a last-resort guard beyond it."""
+    plim = limit if pitch_limit is None else pitch_limit
+    if abs(roll) > limit or abs(pitch) > plim:
+        lim = f"{limit} rad" if plim == limit else f"{limit} / {plim} rad"
+        return "turned_over", f"|roll| {abs(roll):.2f} or |pitch| {abs(pitch):.2f} rad beyond {lim}"
     return None
 
 

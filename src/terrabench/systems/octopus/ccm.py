@@ -1,16 +1,36 @@
 """Crawler-only baseline (CCM): an automated flipper step-climbing controller, same sensors.
 
-The paper's CCM was driven by two operators; this stand-in follows the autonomous flipper
-sequences of Nagatani, Yamasaki & Yoshida (IROS 2008) and Okada, Nagatani & Yoshida (IROS 2009):
-approach with the front flippers raised and held; on contact (the flippers pushed by an edge
-once they have settled, or the pitch rising) press the front flippers down on the edge and push
-with the rear flippers; flatten once the nose is over (pitch falls back). A climb that stalls
-(no pitch gain for ``stall_time``) backs off and retries, up to ``retries`` times, as an operator
-would. The abort fires when the pitch reaches the robot's static tip-back angle over its rearmost
+The paper's CCM was driven manually by two operators "according to the sufficient feedback
+visual images" (environment cameras); it gives no rule of theirs, only that they "tried twice"
+and the robot "turned over" (Fig. 11a4), and that CCM "can be realized by manual or well-designed
+automated control system" (its refs. 15-17). This stand-in replaces the two operators by such an
+automated flipper sequence, after the four-sub-crawler robots of its refs. 5, 6 and 16 (Okada,
+Nagatani & Yoshida, IROS 2009; Nagatani, Yamasaki & Yoshida, IROS 2008; the paper cites them by
+title only and quotes no rule of theirs): approach with the front flippers raised and held; on
+contact (the flippers pushed by an edge once they have settled, or the pitch rising) press the
+front flippers down on the edge and push with the rear flippers; flatten once the nose is over
+(pitch falls back). A climb that stalls (no pitch gain for
+``stall_time``) backs off and retries, up to ``retries`` times, as the operators' second try.
+It sees what the robot senses (IMU, flipper encoders and torques, gyro), not the operators'
+camera views: it cannot judge the step's height or the distance to it.
+
+The PUSH (rear flippers to ``rear_push`` while the pitch is above ``flatten_pitch``) is the
+paper's own flipper rule of a climb, eq. 29, for the crawler alone: during the CLM climb "flippers
+(A and A') ... rotate down to lift robot body" (A = A' - dF while H < H_EST or S < L) and are
+released once the body is over the top; its introduction names the same move for sub-crawler
+robots, "rotating sub-crawlers downward to climb over obstacles" (ref. 7). CCM has no H_EST (no
+arms to measure it): the pitch stands for "not yet over the top". Without the push
+(``ccm.rear_push=0``) the robot stands at 1.2 rad against the 400 mm riser, statically stable,
+and ends ``stuck``; with it the rear rises onto the rear flipper tips and the COG passes behind
+them (``tipped_back``), the paper's outcome.
+
+The abort fires when the pitch reaches the robot's static tip-back angle over its rearmost
 ground contact (geometry, the rear flipper encoders, the IMU pitch: :func:`tip_back_angle`): the
 COG is then over the pivot and the fall has begun, so the abort (stop, flatten) is recorded but
-cannot hide the outcome; ``abort_pitch`` is a plain pitch limit beside it. Arms as in the paper's
-CCM trials: rear arms lifted, front arms at their original pose.
+cannot hide the outcome, which the task decides from the contacts (``tipped_back``,
+:meth:`~terrabench.systems.octopus.task.OctopusTask._tip_back`); ``abort_pitch`` is a plain pitch
+limit beside it. Arms as in the paper's CCM trials: rear arms lifted, front arms at their original
+pose.
 """
 
 from __future__ import annotations
@@ -134,7 +154,8 @@ class CCMController(MachineController):
                 self.machine.go(obs.t, PUSH, f"pitch {p:.2f} > {cfg.push_pitch}")
         elif self.state == PUSH:
             # pitch feedback: the front flippers stay level on the top, the rear ones push while
-            # the nose is up and relax once it is down (a dip is not yet the top: no flatten)
+            # the nose is up and relax once it is down (a dip is not yet the top: no flatten); the
+            # push is eq. 29's flippers rotating down to lift the body (module docstring)
             for f in (0, 1):
                 self._toward(f, max(-p, cfg.front_press))
             for f in (2, 3):

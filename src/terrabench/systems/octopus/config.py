@@ -62,7 +62,10 @@ class ProtocolConfig:
                                "long, 150 s (at 90 s the block trials were cut off at 2.07-2.18 of 2.26 m)")
     log_period: float = param(0.1, gt=0, unit="s", doc="stored series period")
     check_period: float = param(0.5, gt=0, unit="s", doc="slow check / divergence test period")
-    turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| beyond this is turned_over")
+    turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad",
+                             doc="|roll| beyond this is turned_over; the pitch has the tip-back rule (tipped_back: "
+                                 "the COG behind the rearmost loaded contact) and, as a last-resort guard, "
+                                 "turned_over beyond 1.6 rad (task.TURN_OVER_PITCH)")
     stuck_time: float = param(20.0, gt=0, unit="s", doc="no progress of stuck_progress for this long is stuck")
     stuck_progress: float = param(0.03, gt=0, unit="m", doc="progress that counts (see stuck_time)")
     success_past: float = param(0.35, ge=0, unit="m", doc="the COG this far past the (last) edge on top")

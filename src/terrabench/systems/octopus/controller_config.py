@@ -251,9 +251,8 @@ class CCMConfig:
     level_time: float = param(1.0, ge=0, unit="s",
                               doc="level (|pitch| < 0.05 rad) this long while pushing = on the top: flatten")
     abort_pitch: float = param(1.2, gt=0, le=math.pi, unit="rad",
-                               doc="|pitch| at which the climb is aborted whatever the geometry; at the task's "
-                                   "turned-over threshold (1.2 rad), which ends the episode on the same tick, so at "
-                                   "defaults the abort comes from the tip-back condition (tip_back)")
+                               doc="|pitch| at which the climb is aborted whatever the geometry; at defaults the "
+                                   "abort comes from the tip-back condition (tip_back) first")
     tip_back: bool = param(True,
                            doc="abort once the nose-up pitch reaches the static tip-back angle over the rearmost "
                                "ground contact (:func:`.ccm.tip_back_angle`, at the rear flippers' mean angle); "

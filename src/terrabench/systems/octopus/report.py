@@ -25,16 +25,19 @@ TASK_ORDER = ("step-400", "terrace2-front", "terrace2-side", "block-500")
 METHOD_LABEL = {"clm": "CLM", "ccm": "CCM"}
 #: mode codes of the stored ``mode`` column, per method (clm.MODE_NAMES, ccm.MODE_NAMES)
 CCM_NOTE = (
-    "CCM here is an automated stand-in for the paper's two operators (one drove the crawlers, one "
-    "the flippers, watching the robot). It uses the same sensors as CLM and the flipper sequence of "
-    "Nagatani et al. 2008 / Okada et al. 2009: approach with the front flippers raised and held, "
-    "press them on the edge and push with the rear flippers, flatten on the top. Where an operator "
-    "would try again, it backs off after 6 s without pitch gain and retries, rearing the nose "
-    "higher (0.3 rad more) before it presses each time; it aborts (stops, flattens) at the static "
-    "tip-back angle, the pitch at which the COG is over the rear contact (0.92 rad with the rear "
-    "flippers pushing): the fall has begun there, so the abort cannot hide the turn-over. What it "
-    "cannot stand in for: an operator's view "
-    "of the edge and judgement of when to stop.")
+    "CCM here is an automated stand-in for the paper's two operators (the paper: two skilled "
+    "operators drove the robot by joysticks and pedals, watching environment-camera images, and "
+    "\"tried twice\" before it turned over; it gives no rule of theirs). It uses the same sensors as "
+    "CLM and an automated flipper sequence (the paper: CCM \"can be realized by manual or "
+    "well-designed automated control system\"): approach with the front flippers raised and held, "
+    "press them on the edge and push with the rear flippers (the paper's eq. 29: flippers rotate "
+    "down to lift the body), flatten on the top. Where the operators tried again, it backs off "
+    "after 6 s without pitch gain and retries, rearing the nose higher (0.3 rad more) before it "
+    "presses each time; it aborts (stops, flattens) at its own estimate of the static tip-back "
+    "angle (0.92 rad with the rear flippers pushing). The outcome is decided from the contacts: "
+    "tipped_back when the COG passes behind the rearmost loaded contact (a rear end of the robot) "
+    "with the nose up and rising for 0.2 s. What it cannot stand in for: the operators' view of "
+    "the edge and judgement of when to stop.")
 MARGIN_NOTE = (
     "Stability margin: the paper's static margin, the distance from the COG's ground projection to "
     "the support polygon, here the hull of the contacts of geoms that carried more than 20 N within "

@@ -32,7 +32,11 @@ class OctopusSystem(System):
     id = "octopus"
     status_notes = {"success": "on top, past the edge and stable for protocol.success_hold",
                     "stuck": "no progress for protocol.stuck_time",
-                    "turned_over": "|roll| or |pitch| beyond protocol.turn_over"}
+                    "turned_over": "|roll| beyond protocol.turn_over or |pitch| beyond 1.6 rad (task.TURN_OVER_PITCH): "
+                                   "the last-resort guard",
+                    "tipped_back": "the COG passed behind the rearmost contact loaded > 20 N, a rear end of the "
+                                   "robot (rear flipper, rear track pulley, rear arm tip), nose up and rising, for "
+                                   "0.2 s (task.TIP_BACK_HOLD)"}
     summary = ("Chen, Kamezaki et al., OCTOPUS: four arms walk while four flippers crawl (compound locomotion), "
                "400 mm steps without vision")
     status = ("robot, scenes, CLM and CCM controllers, stability margin, report, env "

@@ -38,6 +38,29 @@ SUPPORT_MEMORY = 0.5
 #: quasi-static instants: chassis speed (m/s), angular speed (rad/s) and the normal ground load
 #: within this fraction of the weight
 QS_SPEED, QS_RATE, QS_LOAD = 0.15, 0.3, 0.2
+#: tip-back (status ``tipped_back``, :meth:`OctopusTask._tip_back`): the COG's ground projection
+#: behind the rearmost contact loaded > SUPPORT_LOAD N on the stored row, along the heading, that
+#: contact on a rear end of the robot (rear flipper, rear track pulley, rear arm tip; a pivot under
+#: the track run is an edge it seesaws over), with the nose up and rising, on consecutive stored
+#: rows spanning this long (s). Nothing is then behind
+#: the COG to hold it: the weight's moment about the rear contact line turns the robot backwards,
+#: and the nose still rising says it does. A contact unloaded for an instant (a bounce, a rebound:
+#: tens of ms at these contact stiffnesses) resets the run once it carries load again; the fall it
+#: flags, from the COG over the rear flipper tips (pitch ~0.9 rad) to the robot on its tail on the
+#: rear arm tips (~1.45 rad), took 0.6-0.7 s on step-400, so 0.2 s (two more stored rows) leaves the
+#: run three times over before the landing puts a loaded contact behind the COG again.
+TIP_BACK_HOLD = 0.2
+#: ... and the COG passes behind that contact: the rearmost loaded contact moves less than this (m)
+#: from one stored row to the next, through the run and into it from the row before (the COG then
+#: ahead of it). Rolling back over a flipper tip or a track pulley moves the contact by ~1 cm a row
+#: (0.1 s at <= 1 rad/s), crawling at 0.1 m/s by 1 cm; a rearmost contact that jumps by more is
+#: another contact carrying the load while the rear one is off it for an instant (CCM's press on
+#: step-400: for one row at 6.2 s only the front flippers on the edge, 0.42 m ahead of the COG)
+TIP_BACK_JUMP = 0.05
+#: last-resort attitude guard (``turned_over``): nose up or down beyond this (rad), past the vertical
+#: (pi/2), the robot is on its back or its nose whatever its contacts. A backward fall is told by
+#: the tip-back rule first; |roll| stays on ``protocol.turn_over``.
+TURN_OVER_PITCH = 1.6
 #: rough-ground instances (beyond the paper): id -> normalised sine-sum height (heights 20 x this m)
 ROUGH_LEVELS = {"rough-1": 0.01, "rough-2": 0.02, "rough-3": 0.04}
 #: rough ground: start this far behind the origin, succeed this far past it (m): 1.5 m of travel
@@ -284,6 +307,15 @@ class OctopusTask(TaskBase):
         self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
         self._loaded_t = np.full(model.ngeom, -np.inf)
         self._foot_hist = collections.deque()
+        self._behind: tuple[float, ...] | None = None  # tip-back run: (t, pitch, COG, contact) at its start
+        self._rear_prev = (math.nan, False)  # the last stored row's rearmost loaded contact (m), COG behind it
+        # the robot's rear ends (tip-back pivots, :meth:`_tip_back`): the rear flippers, the main
+        # tracks' rear pulleys, the rear arm tips
+        rear_end = [nm for k in FLIPPERS if k[1] == "R" for nm in Names.flipper_geoms(k)]
+        rear_end += [Names.track_geoms(side)[2] for side in Names.SIDES] + [Names.tip(k) for k in ARMS if k[1] == "R"]
+        self._rear_end = np.zeros(model.ngeom, bool)
+        self._rear_end[[model.geom(nm).id for nm in rear_end]] = True
+        self._tipped: dict | None = None  # the tip-back event once the run held (:meth:`_tip_back`)
         self._f6 = np.zeros(6)
         self._track_force = np.zeros(2)
         self._v = np.zeros(2)
@@ -325,9 +357,11 @@ class OctopusTask(TaskBase):
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
         pr, lay = self.cfg.protocol, self.layout
         roll, pitch = roll_pitch(self.data.xquat[self.chassis].tolist())  # Python floats: the same angles, faster
-        over = turned_over(roll, pitch, pr.turn_over)
+        over = turned_over(roll, pitch, pr.turn_over, TURN_OVER_PITCH)
         if over is not None:
             return over
+        if self._tipped is not None:
+            return "tipped_back", self._tipped["reason"]
         s, lat = self.progress()
         goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
         if slow:
@@ -402,6 +436,7 @@ class OctopusTask(TaskBase):
         sel, rg, f, _ = self._contacts()
         power = self._track_power()
         if not len(sel):
+            self._behind, self._rear_prev = None, (math.nan, False)  # no contact: nothing to be behind (tip-back)
             return nan, nan, 0.0, nan, power
         fn = f[:, 0]
         total, on_crawlers = self.normal_load()
@@ -419,6 +454,7 @@ class OctopusTask(TaskBase):
         hist.append((t, pts[fn > SUPPORT_LOAD].copy()))
         while hist and t - hist[0][0] > SUPPORT_MEMORY + 1e-9:
             hist.popleft()
+        self._tip_back(t, hist[-1][1], rg[fn > SUPPORT_LOAD], cog)
         # the static margin at quasi-static instants, the margin over every contact at the others
         if quasi:
             foot = np.vstack([p for _, p in hist])
@@ -427,6 +463,62 @@ class OctopusTask(TaskBase):
             m_load, m_all = nan, stability_margin(pts, cog)
         share = on_crawlers / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
+
+    def _tip_back(self, t: float, loaded: np.ndarray, geoms: np.ndarray, cog: np.ndarray) -> None:
+        """The tip-back rule (ground truth, on the stored rows; ``check`` ends the episode on the
+        next tick once it holds): the COG's ground projection ``cog`` passes behind the rearmost
+        contact of ``loaded`` (this row's contacts that carried > SUPPORT_LOAD N: the newest entry
+        of the footprint, :meth:`sample`) along the heading (the chassis x axis, horizontal), and
+        stays behind that contact (it moves < TIP_BACK_JUMP a row) with the nose up and rising
+        for TIP_BACK_HOLD s, the contact on one of the robot's rear ends (``geoms``: the robot
+        geom of each ``loaded`` contact; rear flippers, rear track pulleys, rear arm tips).
+
+        The rear end: turning back about it, no crawler surface is left behind the COG to land
+        on (step-400: the pivot is the rear flipper tips, and the robot lands on its lifted rear
+        arms at 1.45 rad). A pivot under the track run is an edge the robot seesaws over (CCM on
+        terrace2 backing off over the first edge, pitch 0: the track behind lands on the floor).
+
+        The newest entry, not the whole SUPPORT_MEMORY: the footprint keeps world points, and
+        while the robot crawls (0.1 m/s) a point loaded 0.5 s ago lies up to 5 cm behind the
+        contact now, under nothing: on step-400 it put the COG behind the footprint 0.5 s (0.35
+        rad) late. A contact off the ground for an instant is what the continuity and the hold
+        are for.
+        """
+        if self._tipped is not None:
+            return
+        ax = self._ax
+        n = math.hypot(float(ax[0]), float(ax[1]))
+        prev, self._rear_prev = self._rear_prev, (math.nan, False)
+        if not len(loaded) or n < 1e-6:
+            self._behind = None
+            return
+        pitch = roll_pitch(self.data.xquat[self.chassis].tolist())[1]
+        hx, hy = float(ax[0]) / n, float(ax[1]) / n
+        cs = float(cog[0]) * hx + float(cog[1]) * hy  # the COG along the heading (m)
+        along = loaded[:, 0] * hx + loaded[:, 1] * hy
+        k = int(np.argmin(along))
+        rs = float(along[k])  # the rearmost loaded contact (m)
+        behind = rs > cs and bool(self._rear_end[geoms[k]])
+        self._rear_prev = (rs, behind)
+        same = abs(rs - prev[0]) < TIP_BACK_JUMP  # the same contact as on the last row (NaN: no)
+        run = self._behind
+        if not (behind and same and pitch > 0.0):
+            self._behind = None  # ahead, another contact (a jump), or nose down: no run
+            return
+        if run is None or pitch < run[1]:
+            # a run starts where the COG passes the contact (on the last row it was ahead of it),
+            # and starts over where the nose fell back
+            self._behind = None if run is None and prev[1] else (t, pitch, cs, rs)
+            return
+        t0, p0, cs0, rs0 = run
+        if t - t0 >= TIP_BACK_HOLD - 1e-9 and pitch > p0:
+            self._tipped = {
+                "t": t0, "pitch": p0, "behind_m": rs0 - cs0, "t_held": t, "pitch_held": pitch,
+                "behind_held_m": rs - cs,
+                "reason": (f"COG {100 * (rs0 - cs0):.1f} cm behind the rearmost loaded contact along the heading "
+                           f"from t = {t0:.2f} s (COG at {cs0:.3f} m, contact at {rs0:.3f} m; pitch {p0:.2f} rad), "
+                           f"nose still rising at t = {t:.2f} s (pitch {pitch:.2f} rad, {100 * (rs - cs):.1f} cm "
+                           f"behind)")}
 
     def normal_load(self) -> tuple[float, float]:
         """The robot's normal ground load now and the crawlers' part of it (tracks and flippers)
@@ -607,4 +699,7 @@ class OctopusTask(TaskBase):
         }
 
     def info(self) -> dict:
-        return {"kind": self.layout.kind, "edge": self.layout.edge, "top": self.layout.top}
+        out = {"kind": self.layout.kind, "edge": self.layout.edge, "top": self.layout.top}
+        if self._tipped is not None:  # the tip-back event (:meth:`_tip_back`): times s, pitches rad, distances m
+            out["tip_back"] = {k: round(v, 4) for k, v in self._tipped.items() if k != "reason"}
+        return out

@@ -1,9 +1,10 @@
 """The inchworm's still wheels hold their footing (soil footing + the RCM still-set hold).
 
-T4 (pit, very loose soil), first RCM lift: the front wheels are the still set and the middle/rear
-wheels roll forward while the rocker closes. The front contact patches must stay where they are
-(the soil's static footing holds them, and their spin cancels the rotation of the rocker section
-that carries them); the chassis advances by the lift's geometry."""
+T4 (pit, very loose soil; unburied, ``scene.burial=0``: the footing's mechanism on the pit
+floor), first RCM lift: the front wheels are the still set and the middle/rear wheels roll
+forward while the rocker closes. The front contact patches must stay where they are (the soil's
+static footing holds them, and their spin cancels the rotation of the rocker section that carries
+them); the chassis advances by the lift's geometry."""
 
 import numpy as np
 
@@ -12,7 +13,8 @@ from terrabench.systems.srwmr.scenarios import SYSTEM
 
 def _first_lift(footing: bool, seconds: float = 12.0):
     spec = SYSTEM.plan(methods=["rcm"], instances=["t4-sinkage"],
-                       overrides={"protocol.timeout": seconds, "soil.footing": footing})[0]
+                       overrides={"protocol.timeout": seconds, "soil.footing": footing,
+                                  "scene.burial": 0.0})[0]  # the pit without the ruts (tests/srwmr/test_burial.py)
     rec = []
 
     def on_step(task, obs, cmd):

@@ -10,7 +10,8 @@ Usage (the hallway's episode loop calls ``before_substep`` before every ``mj_ste
 Per wheel and per call (all wheels vectorised):
 
 1. Ground under the wheel centre from ``ground(x, y) -> (z, normal)`` (flat plane or a MuJoCo
-   heightfield, bilinear in ``model.hfield_data``).
+   heightfield, bilinear in ``model.hfield_data``), lowered by the deepest initial rut there
+   (``ruts``, none by default: a buried start, the wheel settled in its own rut).
 2. Sinkage ``z = r - (z_c - z_ground) n_z`` (distance of the centre above the local ground
    plane, measured along its normal, subtracted from r).
 3. Heading frame: axle ``a`` = the wheel body's y axis, forward ``f = a x n``, lateral
@@ -188,9 +189,47 @@ def _footing(i, sink, rw, vf, vl, g, r, foot, caps, tp, fp):
     return ffx, ffy, phs
 
 
+@numba.njit(cache=True, inline="always")
+def _rut_at(px, py, ruts, r):
+    """Depth (m) of the deepest initial rut under (px, py) and its slope (d depth / dx, d depth / dy).
+
+    Rut k (``ruts[k] = (x, y, f_x, f_y, depth, half width, tan wall)``): the soil surface lowered by
+    ``depth - rise(u) - side(l)`` where positive, u along the rut's heading f, l across it. Along f the
+    floor is the wheel's own imprint (a circle of the wheel radius r) out to where its slope reaches
+    the wall's, then straight walls at that slope; across, flat over the half width, then the wall's
+    slope (docs/assumptions-srwmr.md, "T4 buried start")."""
+    best, gx, gy = 0.0, 0.0, 0.0
+    for k in range(ruts.shape[0]):
+        dx, dy = px - ruts[k, 0], py - ruts[k, 1]
+        fx, fy, tw = ruts[k, 2], ruts[k, 3], ruts[k, 6]
+        u = dx * fx + dy * fy
+        lat = -dx * fy + dy * fx
+        a = r * tw / math.sqrt(1.0 + tw * tw)  # r sin(wall angle): the imprint meets the wall
+        au = abs(u)
+        su = 1.0 if u >= 0.0 else -1.0
+        if au <= a:
+            q = math.sqrt(r * r - u * u)
+            rise, drise = r - q, u / q
+        else:
+            rise = r - r / math.sqrt(1.0 + tw * tw) + (au - a) * tw
+            drise = su * tw
+        al = abs(lat) - ruts[k, 5]
+        side, dside = 0.0, 0.0
+        if al > 0.0:
+            side = al * tw
+            dside = tw if lat >= 0.0 else -tw
+        dep = ruts[k, 4] - rise - side
+        if dep > best:
+            best = dep
+            # d depth / d(x, y) = -(d rise / du) (du/dx, du/dy) - (d side / dl) (dl/dx, dl/dy)
+            gx = -drise * fx + dside * fy
+            gy = -drise * fy - dside * fx
+    return best, gx, gy
+
+
 @numba.njit(cache=True)
 def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, gp, zg_in, n_in,
-                 tab, dwdz, tp, r, damping, v_eps, truth, foot, caps, fp):
+                 tab, dwdz, tp, r, damping, v_eps, truth, foot, caps, fp, ruts):
     for i in range(bodies.shape[0]):
         b = bodies[i]
         px, py, pz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
@@ -206,6 +245,16 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
             zg, nx, ny, nz = _hfield_at(px, py, gh, gp)
         else:
             zg, nx, ny, nz = zg_in[i], n_in[i, 0], n_in[i, 1], n_in[i, 2]
+        rut = 0.0
+        if ruts.shape[0] > 0:
+            rut, gx, gy = _rut_at(px, py, ruts, r)
+            if rut > 0.0:
+                # the surface zg - rut: its slope is the ground's (-n_x/n_z, -n_y/n_z) less the rut's
+                hx = -nx / nz - gx
+                hy = -ny / nz - gy
+                hn = math.sqrt(hx * hx + hy * hy + 1.0)
+                nx, ny, nz = -hx / hn, -hy / hn, 1.0 / hn
+                zg = zg - rut
         # heading f = a x n, lateral l = n x f
         fx, fy, fz = ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
         fn = math.sqrt(fx * fx + fy * fy + fz * fz)
@@ -259,7 +308,7 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
         xfrc[b, 3] = -tf * ax + (ary * Faz - arz * Fay) + (bry * Flz - brz * Fly)
         xfrc[b, 4] = -tf * ay + (arz * Fax - arx * Faz) + (brz * Flx - brx * Flz)
         xfrc[b, 5] = -tf * az + (arx * Fay - ary * Fax) + (brx * Fly - bry * Flx)
-        truth[0, i] = sink
+        truth[0, i] = sink + rut if rut > 0.0 else sink  # below the undisturbed surface
         truth[1, i] = s
         truth[2, i] = C
         truth[3, i] = W
@@ -269,9 +318,10 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
         truth[7, i] = Fn
         truth[8, i] = foot[i, 0]
         truth[9, i] = foot[i, 1]
+        truth[10, i] = rut
 
 
-_TRUTH = ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn", "foot_x", "foot_y")
+_TRUTH = ("sinkage", "slip", "lateral_slip", "W", "DP", "T", "Fy", "Fn", "foot_x", "foot_y", "rut")
 
 
 def _body_ids(model: mujoco.MjModel, wheels: Sequence[str | int]) -> np.ndarray:
@@ -329,13 +379,25 @@ class SoilWheels:
             ``xpos``/``cvel`` that ``mj_step`` left behind, which are one step old (mj_step
             integrates after its forward pass); with a 1 ms step the difference is below the
             tests' tolerances and refresh costs extra time per call.
+        ruts: initial rut depth (m) under each wheel (one number for all, or one per wheel; None or
+            0: none, the default): the soil surface is lowered under each wheel's hub as placed when
+            the hook is built (``data``'s current pose), so a wheel settled ``rut`` below its
+            static sinkage starts that much deeper in the soil (docs/assumptions-srwmr.md, "T4
+            buried start"). The floor is the wheel's imprint, the walls stand at the soil's friction angle (a loose
+            soil's angle of repose), across the axle the floor is ``rut_width`` wide. Every wheel
+            feels every rut (a wheel that drives into another's rut drops into it); ruts do not
+            change with time. ``truth["sinkage"]`` is then measured from the undisturbed surface
+            (the force model's sinkage into the rut floor plus the rut under the hub) and
+            ``truth["rut"]`` is the rut's depth under the hub.
+        rut_width: width (m) of a rut's flat floor across the axle; None = the wheel width.
     """
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, wheels: Sequence[str | int],
                  wheel: WheelParams, soil: SoilParams | SoilTable, ground: Ground | None = None, *,
                  damping: float | None = None, damping_ratio: float = 1.0,
                  nominal_load: float | None = None, every: int = 1, v_eps: float = 0.02,
-                 disable_contact: bool = True, refresh: bool = False, footing: bool = True):
+                 disable_contact: bool = True, refresh: bool = False, footing: bool = True,
+                 ruts: float | Sequence[float] | None = None, rut_width: float | None = None):
         if int(every) != every or every < 1:
             raise ValueError(f"every={every!r} is invalid; valid range: integer >= 1")
         if not v_eps > 0:
@@ -392,8 +454,34 @@ class SoilWheels:
         #: ground truth per wheel (views of one array, updated in place at each evaluation)
         self.truth: dict[str, np.ndarray] = {k: self._truth[i] for i, k in enumerate(_TRUTH)}
         mujoco.mj_forward(model, data)  # valid xpos/xmat/cvel for the first call
+        #: initial ruts, one row per rut: (x, y, heading x, heading y, depth, floor half width, tan wall)
+        self.ruts = self._place_ruts(data, ruts, rut_width)
         self._bind(data)
         self._calls = 0
+
+    def _place_ruts(self, data: mujoco.MjData, ruts, rut_width) -> np.ndarray:
+        """The rut rows under the wheels' hubs as they stand in ``data`` (an empty (0, 7) array: none)."""
+        if ruts is None:
+            return np.zeros((0, 7))
+        depth = np.broadcast_to(np.asarray(ruts, float), (self.n,))
+        if not np.all(np.isfinite(depth)) or np.any(depth < 0) or np.any(depth > self.wheel.radius):
+            raise ValueError(f"ruts={ruts!r} is invalid; valid range: 0 <= depth <= the wheel radius "
+                             f"{self.wheel.radius} m, one number or one per wheel ({self.n})")
+        half = 0.5 * (self.wheel.width if rut_width is None else float(rut_width))
+        if not half >= 0:
+            raise ValueError(f"rut_width={rut_width!r} is invalid; valid range: >= 0 m")
+        tw = self.soil.tan_phi
+        rows = []
+        for i, b in enumerate(self.bodies):
+            if depth[i] <= 0.0:
+                continue
+            ax, ay = data.xmat[b, 1], data.xmat[b, 4]  # the axle's horizontal part; heading = axle x up
+            fx, fy = ay, -ax
+            fn = math.hypot(fx, fy)
+            if fn < 1e-9:
+                raise ValueError(f"ruts: wheel {i} has a vertical axle; a rut needs a heading")
+            rows.append((data.xpos[b, 0], data.xpos[b, 1], fx / fn, fy / fn, depth[i], half, tw))
+        return np.ascontiguousarray(np.array(rows, float).reshape(-1, 7))
 
     def _bind(self, data: mujoco.MjData) -> None:
         # MjData's arrays are views of buffers that live as long as data: fetch them once
@@ -422,7 +510,7 @@ class SoilWheels:
         t = self.table
         _soil_kernel(self.bodies, self.roots, xpos, xmat, cvel, scom, xipos, xfrc, self._gmode, self._gh, self._gp,
                      self._zg, self._nrm, t.data, t.dWdz_end, t.params, self.wheel.radius, self.damping, self.v_eps,
-                     self._truth, self.foot, self._caps, self._fp)
+                     self._truth, self.foot, self._caps, self._fp, self.ruts)
 
     @property
     def wrench(self) -> np.ndarray:

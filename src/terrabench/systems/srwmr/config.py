@@ -64,6 +64,13 @@ class SceneConfig:
     yaw_jitter_deg: float = param(1.0, ge=0.0, le=10.0, unit="deg", doc="seeds > 0 turn the start by up to this")
     approach: float = param(0.6, ge=0.0, le=5.0, unit="m", doc="front wheels to the slope foot at the start")
     clearance: float = param(0.25, ge=0.15, le=0.55, unit="m", doc="start ground clearance [S 250 mm, 150-550 tested]")
+    burial: float | None = param(None, ge=0.0, le=0.15, unit="m", optional=True,
+                                 doc="start with every wheel sunk this deep below the undisturbed soil surface, "
+                                     "settled in its own rut (the rut = this less the static sinkage; at or below "
+                                     "the static sinkage: no rut); at most the wheel radius, the deepest sinkage "
+                                     "the soil model represents; null = the instance's own (T4 0.15 [S Task 4 "
+                                     "'all wheels are totally sunk'], every other 0: on the surface), written "
+                                     "into the stored config at planning")
     lift: str = param("", choices=("",) + tuple("+".join(a) for a in ALLOWED_LIFTS),
                       doc="T12/T13 wheels lifted, MC#1 sets (SWLM one wheel, DWLM c1+c2 / c3+c4 / c5+c6); "
                           "'' = the instance's")

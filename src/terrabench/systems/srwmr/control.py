@@ -140,6 +140,14 @@ class RoverController(MachineController):
         self.still_key: tuple | None = None
         self.still_rot = np.zeros(6)
         self.zeta_prev: np.ndarray | None = None
+        # group ``ik`` only (Step.trace / Step.qp): the per-period QP trace, and for a plan that
+        # bypasses the projection a shadow QP whose solution is traced but not executed
+        self.trace = None
+        if any(getattr(s, "trace", False) for s in plan):
+            from terrabench.systems.srwmr.qp_trace import QPTrace
+
+            self.trace = QPTrace(sc, robot.track / 2, bypassed=any(not getattr(s, "qp", True) for s in plan))
+            self._shadow = SaturatedIK(robot, lim, sc, ts)
 
     # ---------------------------------------------------------------- bookkeeping
     @property
@@ -156,6 +164,8 @@ class RoverController(MachineController):
         out = super().info()
         out.update(self.ik.timing())
         out["reminders"] = dict(self.reminders)
+        if self.trace is not None:
+            out.update(self.trace.info())
         if self.legged_log or self.legged is not None:
             out["legged"] = self.legged_log + ([] if self.legged is None else self.legged.log)
         return out
@@ -234,7 +244,17 @@ class RoverController(MachineController):
         # --- constraint-saturated IK
         kappa, kappa_qp = self._kappa(st.mode)
         J, wb = self.period.J, self.period.wb
-        u = self.ik.solve(nom.u, IKState(obs.delta, self.u_prev), kappa_qp, J, wb, dz=self.period.dz)
+        if st.qp_about_target:  # group ``ik`` variant: the rows linearised about the rockers' servo targets
+            s0, _g, dz_t, wb_t = period_geometry(self.robot, self.target, self.mu_cmd)
+            u = self.ik.solve(nom.u, IKState(self.target, self.u_prev), kappa_qp, s0[1], wb_t, dz=dz_t)
+            qp_ik, u_qp = self.ik, u
+        elif st.qp:
+            u = self.ik.solve(nom.u, IKState(obs.delta, self.u_prev), kappa_qp, J, wb, dz=self.period.dz)
+            qp_ik, u_qp = self.ik, u
+        else:  # group ``ik``'s -noqp twins: the nominal command executed, the projection only traced
+            qp_ik = self._shadow
+            u_qp = qp_ik.solve(nom.u, IKState(obs.delta, self.u_prev), kappa_qp, J, wb, dz=self.period.dz)
+            u = np.asarray(nom.u, float).copy()
         if u is None:
             return self._halt(obs, "IK infeasible (no command satisfies the constraints)")
         ratios = self._ratios(obs, u, J, wb)
@@ -242,11 +262,16 @@ class RoverController(MachineController):
             # a clutched side lifts a wheel, not its hinge: MC#4 is the measured left-right hinge
             # height difference (IMU roll over the hinge track), not the symmetric-lift model's
             ratios[2] = mc.eta_roll(np.array([self.robot.hinge_track * math.sin(float(obs.rpy[0])), 0.0]), self.sc)
+        if self.trace is not None:
+            self.trace.record(obs.t, st.mode, MODE_CODE[st.mode], nom.u, u if u_qp is None else u_qp, u, self.u_prev,
+                              ratios, kappa, kappa_qp, qp_ik._G, qp_ik._h, qp_ik._lb, qp_ik._ub)
         # the QP keeps the command ratios (MC6-MC9) at or below kappa; the supervisor halts on the
         # measured state ratios: MC2 (coordination), MC3-MC5 (posture), MC10/MC11 (loads)
-        i = mc.halting_ratio(ratios, kappa, mc.MONITORED)  # the largest ratio / kappa >= 1, or -1
+        # (group ``ik``: Step.halt_tol > 0 halts only above kappa (1 + halt_tol), past the QP's own boundary)
+        kappa_halt = kappa * (1.0 + st.halt_tol) if st.halt_tol else kappa
+        i = mc.halting_ratio(ratios, kappa_halt, mc.MONITORED)  # the largest ratio / kappa >= 1, or -1
         if i >= 0:
-            return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa[i]:.2f}")
+            return self._halt(obs, f"{mc.NAMES[i]} ratio {ratios[i]:.2f} >= {kappa_halt[i]:.2f}")
         return self._command(obs, u, steer_only=nom.steer_only, lifted=nom.lifted, ratios=ratios)
 
     # ---------------------------------------------------------------- supervisor

@@ -109,7 +109,8 @@ class Build:
 class Entry:
     """One registration: ``instance`` in ``group`` run with one of ``methods`` is built by
     ``build``, within ``timeout`` s of simulated time; ``uses_lift``: the builder reads
-    ``scene.lift`` (T12, T13)."""
+    ``scene.lift`` (T12, T13); ``burial``: the wheels' start sinkage below the undisturbed soil
+    surface (m) when ``scene.burial`` is null (0: on the surface; T4: sunk in their ruts)."""
 
     instance: str
     group: str
@@ -117,13 +118,15 @@ class Entry:
     timeout: float
     build: Callable[[Build], Layout]
     uses_lift: bool = False
+    burial: float = 0.0
 
 
 #: instance id -> its registrations (one per set of methods), in registration order
 REGISTRY: dict[str, list[Entry]] = {}
 
 
-def instance(*ids: str, group: str, methods: tuple[str, ...], timeout: float, uses_lift: bool = False):
+def instance(*ids: str, group: str, methods: tuple[str, ...], timeout: float, uses_lift: bool = False,
+             burial: float = 0.0):
     """Register the decorated builder for ``ids`` run with ``methods`` (tagged by ``group``)."""
 
     def add(fn: Callable[[Build], Layout]) -> Callable[[Build], Layout]:
@@ -134,7 +137,7 @@ def instance(*ids: str, group: str, methods: tuple[str, ...], timeout: float, us
                 raise ValueError(f"srwmr instance {i!r} already has a layout for {', '.join(sorted(taken))}")
             if entries and entries[0].group != group:
                 raise ValueError(f"srwmr instance {i!r} is in group {entries[0].group!r}, not {group!r}")
-            entries.append(Entry(i, group, tuple(methods), float(timeout), fn, uses_lift))
+            entries.append(Entry(i, group, tuple(methods), float(timeout), fn, uses_lift, float(burial)))
         return fn
 
     return add
@@ -175,6 +178,14 @@ def time_limit(cfg, instance: str, method: str) -> float:
     config, so a stored trial always carries its number)."""
     t = cfg.protocol.timeout
     return float(t) if t is not None else registered(instance, method).timeout
+
+
+def start_burial(cfg, instance: str, method: str) -> float:
+    """The wheels' start sinkage below the undisturbed soil surface (m) of ``instance`` run with
+    ``method`` under ``cfg``: its ``scene.burial`` if set, else the registration's (written into
+    every stored config at planning, as the time limit)."""
+    b = cfg.scene.burial
+    return float(b) if b is not None else registered(instance, method).burial
 
 
 def layout(instance: str, method: str, robot: RobotConfig, approach: float = 0.6, lift: str = "") -> Layout:
@@ -251,9 +262,11 @@ def _t3(b: Build) -> Layout:
     return Layout(FLAT, (), "loose", plan, None, note="RCLM 250 -> 330 -> 480 -> 250 mm [S Task 3]")
 
 
-@instance("t4-sinkage", group="tasks", methods=("rcm", "wrm"), timeout=600.0)
+@instance("t4-sinkage", group="tasks", methods=("rcm", "wrm"), timeout=600.0, burial=0.15)
 def _t4(b: Build) -> Layout:
-    """T4: out of a pit of very loose soil (the paper's 'all wheels sunk')."""
+    """T4: out of a pit of very loose soil with every wheel sunk in its own rut, 150 mm (the wheel
+    radius) below the pit floor's surface (the paper's 'all wheels are totally sunk';
+    ``scene.burial``, docs/assumptions-srwmr.md)."""
     depth = 0.12
     wall = 1.0 + depth / math.tan(math.radians(20))
     prof = ((-20.0, -depth), (1.05, -depth), (wall, 0.0), (30.0, 0.0))
@@ -264,7 +277,8 @@ def _t4(b: Build) -> Layout:
         else (Step("WRM", v=0.025, dist=5.0, until_x=goal),)
     )
     return Layout(prof, (), "very_loose", plan, goal, z0=-depth,
-                  note="start in a 120 mm pit with 20 deg walls of very loose soil [R for 'all wheels sunk']")
+                  note="start in a 120 mm pit with 20 deg walls of very loose soil, the wheels sunk in their ruts "
+                       "(scene.burial) [R for 'all wheels are totally sunk']")
 
 
 @instance("t5-slope10", group="tasks", methods=("rcm", "wrm"), timeout=600.0)

@@ -56,6 +56,18 @@ class Step:
         height: SWLM/DWLM lift height (m) of the wheel above its side's grounded axles.
         shift: SWLM/DWLM clearance (m) of the CoM shift before the lift (None: by wheel position,
             :data:`~terrabench.systems.srwmr.legged.SHIFT`). SWLM/DWLM ``dist``: the roll while lifted.
+        clearance_r: RCLM clearance (m) of the right side's hinge (None: ``clearance`` for both; an
+            asymmetric lift, group ``ik``).
+        hold_s: RCLM: the step ends after this long (s) even short of its target (None: at the
+            target only): a lift commanded against a limit the QP holds it at (group ``ik``).
+        qp: False: the constraint-saturated projection is bypassed and the nominal command executed
+            (group ``ik``'s ``-noqp`` twins; the supervisor still watches the ratios).
+        qp_about_target: the QP's rows linearised about the rockers' servo targets (the integrated
+            command) instead of the measured closing angles (group ``ik``'s ``-target`` variants).
+        halt_tol: the supervisor halts on a monitored ratio above ``kappa (1 + halt_tol)`` (0: at
+            kappa, the default): a ratio the QP holds at its kappa is then no halt (group ``ik``).
+        trace: keep the per-period QP trace (:mod:`~terrabench.systems.srwmr.qp_trace`) in the
+            trial's info (group ``ik``).
     """
 
     mode: str
@@ -75,6 +87,12 @@ class Step:
     lift: tuple = ()
     height: float = 0.18
     shift: float | None = None
+    clearance_r: float | None = None
+    hold_s: float | None = None
+    qp: bool = True
+    qp_about_target: bool = False
+    halt_tol: float = 0.0
+    trace: bool = False
 
 
 @dataclass
@@ -217,10 +235,14 @@ class ChassisLifting(_Mode):
     def __init__(self, step: Any, robot: Any) -> None:
         super().__init__(step)
         self.target = delta_for_clearance(robot, step.clearance)
+        if step.clearance_r is not None:  # an asymmetric lift: (left, right) closing targets
+            self.target = np.array([self.target, delta_for_clearance(robot, step.clearance_r)])
 
     def nominal(self, ctl: Any, obs: Any, x: float, y: float, dyaw: float) -> Nominal:
         st, td = self.st, self.target
         if np.max(np.abs(obs.delta - td)) < 0.004:
+            return Nominal(np.zeros(5), True)
+        if st.hold_s is not None and obs.t - ctl.step_start[3] >= st.hold_s:
             return Nominal(np.zeros(5), True)
         rate = ctl.closing_rate(obs, st.vz, td)
         return Nominal(np.array([st.v, 0.0, st.wz, rate[0], rate[1]]))

@@ -322,6 +322,9 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
     ]
     if qp:
         page.table(qp, list(qp[0]), csv_name=f"qp_timing{slug}.csv")
+    from terrabench.systems.srwmr.report_qp import add_section as qp_at_work
+
+    qp_at_work(page, rows, slug, plt)  # group ik: the QP's share per constraint, its effect (figures, CSV)
     sl = slope_lines(rows)
     if sl:
         page.h2("Slopes: success and slip against the slope angle")

@@ -17,8 +17,9 @@ from typing import Any
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.config import to_dict
 from terrabench.systems.base import MethodInfo, System
+from terrabench.systems.srwmr import ik_cases  # noqa: F401  (registers group "ik")
 from terrabench.systems.srwmr.config import SRWMRConfig
-from terrabench.systems.srwmr.layouts import entry, instance_ids, registered, time_limit
+from terrabench.systems.srwmr.layouts import entry, instance_ids, registered, start_burial, time_limit
 from terrabench.systems.srwmr.methods import METHODS
 
 SCENARIO = "srwmr/tasks-v1"
@@ -41,6 +42,7 @@ class SRWMRSystem(System):
     groups = {
         "tasks": "the paper's tasks a simulation repeats (T1-T15)",
         "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)",
+        "ik": "the constraint-saturated IK at work: MC#3-#9 driven to their QP boundary, each with a -noqp twin",
     }
     default_group = "tasks"
     timeout_key = "protocol.timeout"
@@ -112,9 +114,11 @@ class SRWMRSystem(System):
         return ev
 
     def trial_config(self, method: str, instance: str, cfg: SRWMRConfig) -> dict[str, Any]:
-        """The whole resolved config, ``protocol.timeout`` the instance's own unless one was set."""
+        """The whole resolved config, ``protocol.timeout`` and ``scene.burial`` the instance's own
+        unless one was set."""
         out = to_dict(cfg)
         out["protocol"]["timeout"] = time_limit(cfg, instance, method)
+        out["scene"]["burial"] = start_burial(cfg, instance, method)
         return out
 
     def make_task(self, spec: TrialSpec, cfg: SRWMRConfig):

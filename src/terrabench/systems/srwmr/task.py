@@ -24,7 +24,7 @@ from terrabench.systems.base import TaskBase
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr.config import SRWMRConfig
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
-from terrabench.systems.srwmr.layouts import Layout, layout, time_limit
+from terrabench.systems.srwmr.layouts import Layout, layout, start_burial, time_limit
 from terrabench.systems.srwmr.legged import apply_clutch
 from terrabench.systems.srwmr.methods import METHODS
 from terrabench.systems.srwmr.motors import HIT_MRII
@@ -210,9 +210,16 @@ class SRWMRTask(TaskBase):
         spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
         self.table = cached_table(self.soil, HIT_MRII_WHEEL)
         self.z_sink = self.table.static_sinkage(r.total_mass * 9.81 / 6)
+        # a buried start (scene.burial, T4): each wheel settled in a rut that deep less the static
+        # sinkage, carved under its hub by the soil hook (bind); the robot stands that much lower
+        burial = start_burial(self.cfg, self.instance, self.method)
+        self.rut = max(burial - self.z_sink, 0.0)
         x0, y0, yaw = self.start
         hz = r.hinge_height - self.z_sink + (self.cfg.scene.clearance - r.clearance)
-        add_robot(spec, (x0, y0, lay.z0 + hz + 0.002), yaw, r)
+        z = lay.z0 + hz + 0.002
+        if self.rut > 0.0:
+            z -= self.rut
+        add_robot(spec, (x0, y0, z), yaw, r)
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Observation:
         self.model, self.data = model, data
@@ -224,6 +231,7 @@ class SRWMRTask(TaskBase):
             data.qpos[model.joint(Names.bogie(s)).qposadr[0]] = d0
         mujoco.mj_forward(model, data)
         ground = flat_ground(self.layout.profile[0][1]) if self.flat else hfield_ground(model, "ground")
+        rut = getattr(self, "rut", 0.0)  # set by build (a subclass with its own scene has none)
         self.soil_wheels = SoilWheels(
             model,
             data,
@@ -235,6 +243,7 @@ class SRWMRTask(TaskBase):
             every=self.cfg.soil.every,
             refresh=self.cfg.soil.refresh,
             footing=self.cfg.soil.footing,
+            ruts=rut if rut > 0.0 else None,
         )
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
         self.before_substep = self.soil_wheels.before_substep

@@ -135,10 +135,12 @@ def test_bad_input():
 
 
 def test_clm_lift_raises_chassis_vertically():
-    """Tips on the ground, all tip targets pushed straight down: the chassis rises, it does not slide back."""
+    """The hoist (``clm.nose_climb=false``): tips on the ground, all tip targets pushed straight down:
+    the chassis rises, it does not slide back."""
     from terrabench.sim.episode import Episode
 
-    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1, overrides={"protocol.timeout": 40.0})[0]
+    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1,
+                       overrides={"protocol.timeout": 40.0, "clm.nose_climb": False})[0]
     cfg = SYSTEM.load_config(spec.config)
     task = SYSTEM.make_task(spec, cfg)
     ctl = SYSTEM.make_controller(spec, cfg, task)

@@ -194,13 +194,29 @@ def test_clm_does_not_walk_itself_over_a_riser_beyond_its_reach():
 
 
 def test_clm_nose_climb_pitches_up_on_loaded_crawlers():
-    """The opt-in climb of the paper's Fig. 9 (``clm.nose_climb``): on step-400 the front booms lift
-    the nose toward ``climb_pitch`` while the rear crawlers stay on the ground, so the crawlers keep
-    a far larger share of the load through the climb than in the level four-arm hoist (the default,
-    whose every arm carries the robot at once: share 0 measured), and the robot still gets on top."""
-    hoist = _run("clm", "step-400")
-    nose = _run("clm", "step-400", **{"clm.nose_climb": True})
+    """The climb of the paper's Fig. 9 (``clm.nose_climb``, the default): on step-400 the front booms
+    lift the nose toward ``climb_pitch`` while the rear crawlers stay on the ground, so the crawlers
+    keep a far larger share of the load through the climb than in the level four-arm hoist
+    (``nose_climb=false``, whose every arm carries the robot at once: share 0 measured), and the
+    robot still gets on top."""
+    hoist = _run("clm", "step-400", **{"clm.nose_climb": False})
+    nose = _run("clm", "step-400")
     assert nose.status == "success" and hoist.status == "success"
     assert any("front pulley" in e[3] and "over the top" in e[3] for e in _events(nose))
     assert 0.45 < nose.metrics["max_pitch_rad"] < 0.8 and hoist.metrics["max_pitch_rad"] < 0.35
     assert nose.metrics["crawler_load_share_min"] > 0.3 > hoist.metrics["crawler_load_share_min"]
+
+
+def test_clm_waits_for_its_arms_after_a_release_on_a_short_tread():
+    """terrace2-front seed 0: the first climb releases with the rear still below the edge (the
+    front at the second riser, the 0.45 m tread is shorter than the robot); waiting with the body
+    pitched until the four arms are down (``place_pitch``) lets the next climb start from four
+    sensed tips. Never waiting (place_pitch at its bound, pi/2), the crawlers mount the second
+    riser alone while the arms are in transfer, up to the walk guard, and the trial sticks."""
+    import math
+
+    waits = _run("clm", "terrace2-front")
+    never = _run("clm", "terrace2-front", **{"clm.place_pitch": math.pi / 2})
+    assert waits.status == "success"
+    assert never.status != "success"
+    assert any("back off" in e[3] for e in _events(never))

@@ -85,6 +85,7 @@ class CLMController(MachineController):
         self.heading = 0.0  # integrated gyro yaw rate (rad): the operator's move direction is 0
         self.release_pitch = 0.0
         self.resumes = 0  # releases of this climb that resumed it
+        self.placing = False  # since a release, until the four arms are down again (place_pitch)
         self.machine = ModeMachine(INIT, MODE_NAMES)  # the controller state; records every change
 
 
@@ -293,7 +294,7 @@ class CLMController(MachineController):
         return tip if zc(tip) < zc(pul) else pul
 
     def _climb_nose(self, obs) -> None:
-        """The climb of the paper's Fig. 9 (eqs. 28-29, opt-in ``nose_climb``).
+        """The climb of the paper's Fig. 9 (eqs. 28-29; ``nose_climb``, the default).
 
         Crawlers: ``climb_track_speed`` into and up the riser; beyond ``guard_pitch`` (the stability
         monitor) they stop. Front booms: their tip targets in {R} move down by ``lift_dz`` a tick
@@ -513,6 +514,7 @@ class CLMController(MachineController):
                 self.queue = list(GAIT_ORDER)
                 c.flip[:2] = cfg.flipper_start
                 self.contact[:] = False
+                self.placing = True
 
     # ---------------------------------------------------------------- main
     def __call__(self, obs) -> Command:
@@ -536,7 +538,12 @@ class CLMController(MachineController):
             return c
         if self.state == WALK:
             # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
-            v = 0.0 if self.out_of_reach else cfg.track_speed
+            # after a release the arms are re-placed; with the body still pitched (the rear below the
+            # edge, the front already at the next riser of a short tread) the crawlers wait for them
+            if self.placing and self.contact.all() and not any(self.phase.values()):
+                self.placing = False
+            hold = self.placing and obs.pitch > cfg.place_pitch
+            v = 0.0 if self.out_of_reach or hold else cfg.track_speed
             if obs.pitch > cfg.guard_pitch:
                 # the paper's stability monitor: nose up toward the tip-back angle (~0.93 rad on the
                 # rear flippers, ccm.tip_back_angle): the crawlers back off instead of pushing on

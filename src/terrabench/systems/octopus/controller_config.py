@@ -188,17 +188,23 @@ class CLMConfig:
                              doc="while the lifted body drives, the supporting tips hold their footholds (their "
                                  "targets move back by the crawler travel, as in walking), so a front tip on a short "
                                  "tread does not roll into the next riser and block the climb")
-    nose_climb: bool = param(False,
-                             doc="opt-in climb of the paper's Fig. 9 (:meth:`.clm.CLMController._climb_nose`): the "
+    nose_climb: bool = param(True,
+                             doc="the climb of the paper's Fig. 9 (:meth:`.clm.CLMController._climb_nose`): the "
                                  "front booms lift the nose toward climb_pitch while the crawlers drive into the "
                                  "riser ('flippers ... and all boom joints ... rotate down to lift robot body', 'by "
                                  "the friction force generated from crawlers and step, robot can move forward "
                                  "slowly'); the front flippers come down onto the top once they clear its edge; the "
                                  "rear arms press with a bounded force (the rear crawlers stay loaded) until the "
-                                 "front pulley is over the top, then lift the rear. Off by default: measured 2/2 on "
-                                 "step-400 and block-500 but 1/2 on each two-terrace task (short tread: the next "
-                                 "riser is met during or just after the release); False is the level four-arm "
-                                 "hoist of issue 21")
+                                 "front pulley is over the top, then lift the rear. The default since the release's "
+                                 "wait (place_pitch) made the two-terrace tasks 5/5 each (before: 3/5); False is the "
+                                 "level four-arm hoist of issue 21")
+    place_pitch: float = param(0.15, gt=0, le=math.pi / 2, unit="rad",
+                               doc="after a release the arms are re-placed; while the body is pitched nose-up more "
+                                   "than this (the rear still below the edge: on a short tread the front is already "
+                                   "at the next riser) the crawlers wait until the four arms are down, so the next "
+                                   "climb starts from four sensed tips [R: driving on, the crawlers mounted the next "
+                                   "riser alone while the arms were in transfer, pitch to guard_pitch, stuck: "
+                                   "terrace2-front seed 0 at 43-65 s]; level within it (on the top) they drive on")
     climb_pitch: float = param(0.6, gt=0, le=math.pi / 2, unit="rad",
                                doc="nose-up pitch the front booms lift toward in the nose climb (nose_climb); above it "
                                    "they hold [P: the CLM climb's largest pitch, 0.6 rad]; below the walk guard "

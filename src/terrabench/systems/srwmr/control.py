@@ -136,6 +136,7 @@ class RoverController(MachineController):
         self.health_t: float | None = None
         self.clutch = (False, False)
         self.legged_log: list[dict] = []
+        self.short_lifts: list[str] = []  # legged steps whose lift stayed below legged.DRIVE_SHARE
         # RCM's hold of the still set: its wheel indices, rotation over the ground, last zeta
         self.still_key: tuple | None = None
         self.still_rot = np.zeros(6)
@@ -183,11 +184,18 @@ class RoverController(MachineController):
         if self.legged is not None:
             # a legged step ends with its clutches released (also after a reverse)
             self.legged_log += self.legged.log
+            if self.legged.short:
+                self.short_lifts.append(self.legged.short)
         self.action = None
         self.clutch = (False, False)
         if self.k >= len(self.plan):
             self.machine.go(obs.t, "DONE", reason)
-            self.stop = self.stop or StopRequest(DONE, "plan complete")
+            if self.short_lifts:
+                # the plan reached its end, but a legged step's lift did not happen (its wheel rolled on
+                # the ground): the task (lift, roll, lower) was not done, whatever the goal line says
+                self.stop = self.stop or StopRequest(HALT, "plan complete without its lift: " + "; ".join(self.short_lifts))
+            else:
+                self.stop = self.stop or StopRequest(DONE, "plan complete")
             return
         st = self.plan[self.k]
         self.step_start = (obs.xy.copy(), obs.yaw, obs.delta.copy(), obs.t)

@@ -169,6 +169,9 @@ class LeggedAction:
         self.best = (-1.0, obs.t)
         self.touch_t = None
         self.rate = LIFT_SPEED
+        #: set when the roll began with the lift below DRIVE_SHARE of its target: the step's
+        #: legged action was not done (the wheel stayed on the ground and kept driving)
+        self.short: str | None = None
 
     @property
     def name(self) -> str:
@@ -251,6 +254,8 @@ class LeggedAction:
                     # a lift that stayed low leaves the wheel on the ground: it keeps driving (undriven it
                     # braked the rover to a stop, measured on the rear lifts of T7 / T13)
                     self.lifted = ()
+                    self.short = (f"{'+'.join(self.lift)} lifted {1000 * self.achieved:.0f} of "
+                                  f"{1000 * st.height:.0f} mm")
                     self._note(obs.t, f"lift {1000 * self.achieved:.0f} mm < {DRIVE_SHARE:.0%} of the target: "
                                       "the wheel(s) keep driving")
             if x >= self.x0 + st.dist:

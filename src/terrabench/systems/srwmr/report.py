@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from terrabench.systems.srwmr.ik import limited_share
+from terrabench.systems.srwmr.layouts import REGISTRY
 
 #: the paper's figures [S] (compare trends and orderings; its energy units are inconsistent)
 PAPER = {
@@ -52,6 +53,13 @@ OPERATOR = (
     "(default 2 s), which ends the current action; the plan (layouts.py) is the paper's action sequence."
 )
 
+
+
+def _in_tasks(r: dict[str, Any]) -> bool:
+    """A row of the paper's tasks (group ``tasks``): the slope sweep and the ``ik`` cases have their
+    own sections (an instance no longer registered counts as a task row)."""
+    es = REGISTRY.get(r["instance"])
+    return not es or es[0].group == "tasks"
 
 def _mean(rs, key):
     a = np.array([r["metrics"].get(key, np.nan) for r in rs], float)
@@ -219,7 +227,7 @@ def _clip_rows(store: Any, system: Any, rows: list[dict[str, Any]]) -> dict[str,
     """Per mode, its first stored trial (seed, instance order; slope sweeps last) in which the mode's
     :data:`CLIP_EVENT` happens, and the event's time: a distinct trial per mode, showing its action."""
     out: dict[str, tuple[dict[str, Any], float]] = {}
-    order = sorted(rows, key=lambda r: (r["instance"].startswith("slope-"), r["seed"], r["instance"]))
+    order = sorted(rows, key=lambda r: (not _in_tasks(r), r["seed"], r["instance"]))  # the paper's tasks first
     for r in order:
         meth = r["method"]
         if meth in out or meth not in CLIP_EVENT:
@@ -239,7 +247,7 @@ def _snapshots(page: Any, store: Any, system: Any, rows: list[dict[str, Any]], s
 
     firsts: dict[str, dict[str, Any]] = {}
     for r in sorted(rows, key=lambda r: (r["seed"], r["instance"])):
-        if not r["instance"].startswith("slope-"):
+        if _in_tasks(r):
             firsts.setdefault(r["method"], r)
     if not firsts:
         return
@@ -302,8 +310,8 @@ def _section(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: 
     """The tables, series and timelines of one settings group (file names end in ``slug``)."""
     from terrabench.report.timeline import draw_timelines
 
-    task_rows = [r for r in rows if not r["instance"].startswith("slope-")]
-    if task_rows:  # a settings group may hold only slope trials (e.g. a --timeout run of the sweep)
+    task_rows = [r for r in rows if _in_tasks(r)]
+    if task_rows:  # a settings group may hold only slope or ik trials (e.g. a --timeout run of the sweep)
         _task_sections(page, store, task_rows, slug, plt, _robot(rows))
     page.h2("Constraint-saturated IK: QP solve time (DAQP via qpsolvers, 5 variables, 16 inequalities + bounds)")
     qp = [

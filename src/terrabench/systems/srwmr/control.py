@@ -193,7 +193,8 @@ class RoverController(MachineController):
             if self.short_lifts:
                 # the plan reached its end, but a legged step's lift did not happen (its wheel rolled on
                 # the ground): the task (lift, roll, lower) was not done, whatever the goal line says
-                self.stop = self.stop or StopRequest(HALT, "plan complete without its lift: " + "; ".join(self.short_lifts))
+                why = "plan complete without its lift: " + "; ".join(self.short_lifts)
+                self.stop = self.stop or StopRequest(HALT, why)
             else:
                 self.stop = self.stop or StopRequest(DONE, "plan complete")
             return

@@ -222,3 +222,16 @@ def test_com_shift_puts_the_middle_axle_ahead_of_the_com_upwards_and_behind_it_d
     assert x_mid(legged.SHIFT["front"]) > 0.02
     assert x_mid(legged.SHIFT["rear"]) < -0.2
     assert all(np.diff([x_mid(cl) for cl in np.linspace(0.15, 0.5, 15)]) > 0)  # monotone in the clearance
+
+
+def test_a_plan_whose_lift_did_not_happen_is_no_success():
+    """A legged step whose lift stays below half its target (legged.DRIVE_SHARE: the wheel keeps
+    driving on the ground) makes the completed plan ``stuck``, naming the lift, whatever the goal
+    line says; a lift that reached its height leaves the plan's outcome to the goal line."""
+    (rear,) = SYSTEM.plan(methods=["swlm"], instances=["t13-rear"])
+    (middle,) = SYSTEM.plan(methods=["dwlm"], instances=["t13-middle"])
+    r, m = SYSTEM.run_trial(rear), SYSTEM.run_trial(middle)
+    assert r.status == "stuck" and r.info["reason"].startswith("plan complete without its lift: c6 lifted")
+    lifted = int(r.info["reason"].split("lifted ")[1].split(" of")[0])
+    assert lifted < legged.DRIVE_SHARE * 200
+    assert m.status == "success" and m.info["reason"] == "plan complete"

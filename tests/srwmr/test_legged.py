@@ -197,9 +197,9 @@ def test_swlm_lifts_the_middle_wheel_off_the_soil_with_the_clutch_holding_the_bo
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="on the fitted linkage the body pitches 0.10 rad nose-down after the CoM "
-                   "shift and the front wheels keep 600-730 N: the front lift does not rise (docs/srwmr.md, "
-                   "'The front lift does not rise')")
+@pytest.mark.xfail(strict=True, reason="on the fitted linkage the CoM shift loads the front wheels (600-730 N, the "
+                   "middle ones 180 N) where the kinematics put the CoM behind the middle axle: the front lift "
+                   "does not rise (docs/srwmr.md, 'The front lift does not rise')")
 def test_swlm_front_lift_needs_the_com_shift_and_reaches_the_height():
     rec, ctl = _lift_run(Step("SWLM", v=0.025, lift=("c2",), height=0.15, dist=0.1), 200.0)
     roll = [r for r in rec if r[1] == "roll"]

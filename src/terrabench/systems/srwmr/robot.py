@@ -99,6 +99,16 @@ class RobotConfig:
                                       "docs/assumptions-srwmr.md)")
     rocker_range: tuple[float, float] = param((-1.2, 0.5), ge=-3.14, le=3.14, length=2, unit="rad",
                                               doc="rocker_s joint range (closing < 0 < opening)")
+    bogie_range: tuple[float, float] = param((-1.2, 1.6), ge=-3.14, le=3.14, length=2, unit="rad",
+                                             doc="bogie_s joint range (relative to the rear section). The bogie "
+                                                 "counter-rotates by the closing angle to stay level, so the range "
+                                                 "must hold the level angle over the clearances the tasks use: "
+                                                 "-0.27 rad at 150 mm to 1.20 rad at the linkage's 534 mm maximum "
+                                                 "['150-550 mm in tests'; T10 lifts to 550 mm], plus 0.4 rad for the "
+                                                 "terrain [R]. The earlier +-0.8 rad jammed the bogie from 480 mm "
+                                                 "(measured: 0.804 rad at T12's 500 mm CoM shift, the front wheels at "
+                                                 "640 N where the free bogie's statics give 265 N, and the front lift "
+                                                 "did not rise)")
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -116,6 +126,9 @@ class RobotConfig:
         lo, hi = self.rocker_range
         if not lo < 0.0 < hi:
             raise ValueError(f"robot.rocker_range={self.rocker_range!r} is invalid; valid: lower < 0 < upper (rad)")
+        lo, hi = self.bogie_range
+        if not lo < 0 < hi:
+            raise ValueError(f"robot.bogie_range={self.bogie_range!r} is invalid; valid: lower < 0 < upper (rad)")
 
     # derived geometry -------------------------------------------------------------
     @property
@@ -403,7 +416,7 @@ def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: flo
             name=Names.bogie(s),
             type=mujoco.mjtJoint.mjJNT_HINGE,
             axis=[0, 1, 0],
-            range=[-0.8, 0.8],
+            range=list(cfg.bogie_range),
             damping=cfg.pivot_damping,
         )
         _cap(bg, (bm, 0, 0), (-bq, 0, 0), 0.035, 0.7 * cfg.bogie_mass, [0.3, 0.5, 0.8, 1])

@@ -197,7 +197,7 @@ def test_swlm_lifts_the_middle_wheel_off_the_soil_with_the_clutch_holding_the_bo
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="the front lift rises ~33 mm, then the middle wheel takes ~910 N and "
+@pytest.mark.xfail(strict=True, reason="the front lift rises ~33 mm, then the middle wheel takes ~1,050 N and "
                    "W_fmr passes MC#11's 700 N [S]: the supervisor ends the lift (docs/srwmr.md, 'The front lift')")
 def test_swlm_front_lift_needs_the_com_shift_and_reaches_the_height():
     rec, ctl = _lift_run(Step("SWLM", v=0.025, lift=("c2",), height=0.15, dist=0.1), 200.0)

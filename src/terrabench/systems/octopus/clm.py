@@ -104,6 +104,10 @@ class CLMController(MachineController):
         c.flip[:] = [self.cfg.flipper_start, self.cfg.flipper_start, 0.0, 0.0]
         self.started = True
 
+    def _all_down(self) -> bool:
+        """Every arm a support: all four tips in contact and none in transfer."""
+        return bool(self.contact.all()) and not any(self.phase.values())
+
     def _lead(self, obs) -> None:
         m = self.cfg.max_lead
         q = obs.q_arm
@@ -540,7 +544,7 @@ class CLMController(MachineController):
             # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
             # after a release the arms are re-placed; with the body still pitched (the rear below the
             # edge, the front already at the next riser of a short tread) the crawlers wait for them
-            if self.placing and self.contact.all() and not any(self.phase.values()):
+            if self.placing and self._all_down():
                 self.placing = False
             hold = self.placing and obs.pitch > cfg.place_pitch
             v = 0.0 if self.out_of_reach or hold else cfg.track_speed
@@ -564,7 +568,7 @@ class CLMController(MachineController):
                     self.queue_reason[k] = (f"collision: elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
                                             f" > {cfg.hit_torque:g}")
             i = self._transfer(obs)
-            all_down = self.contact.all() and not any(self.phase.values())
+            all_down = self._all_down()
             if all_down:
                 self.tp = terrain_angles(self.tip_c)[0]
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case

@@ -54,12 +54,12 @@ OPERATOR = (
 )
 
 
-
 def _in_tasks(r: dict[str, Any]) -> bool:
     """A row of the paper's tasks (group ``tasks``): the slope sweep and the ``ik`` cases have their
     own sections (an instance no longer registered counts as a task row)."""
     es = REGISTRY.get(r["instance"])
     return not es or es[0].group == "tasks"
+
 
 def _mean(rs, key):
     a = np.array([r["metrics"].get(key, np.nan) for r in rs], float)

@@ -123,12 +123,10 @@ class RobotConfig:
                 f"rear_angle={self.rear_angle!r} leaves the rear pillars {self.pillar_rear:.3f} m long; valid: "
                 ">= 0.05 m (pillar_front + front_len sin(front_angle) - rear_len sin(rear_angle))"
             )
-        lo, hi = self.rocker_range
-        if not lo < 0.0 < hi:
-            raise ValueError(f"robot.rocker_range={self.rocker_range!r} is invalid; valid: lower < 0 < upper (rad)")
-        lo, hi = self.bogie_range
-        if not lo < 0 < hi:
-            raise ValueError(f"robot.bogie_range={self.bogie_range!r} is invalid; valid: lower < 0 < upper (rad)")
+        for name in ("rocker_range", "bogie_range"):
+            lo, hi = getattr(self, name)
+            if not lo < 0.0 < hi:
+                raise ValueError(f"robot.{name}={getattr(self, name)!r} is invalid; valid: lower < 0 < upper (rad)")
 
     # derived geometry -------------------------------------------------------------
     @property

@@ -18,7 +18,7 @@ from terrabench.sim.stall import StallWatch
 def roll_pitch(quat) -> tuple[float, float]:
     """Roll (left side up > 0) and pitch (nose up > 0) in rad of a body quaternion (w, x, y, z)
     with x forward and z up (Z-Y-X Euler angles)."""
-    w, x, y, z = (float(v) for v in quat)
+    w, x, y, z = map(float, quat)
     r20 = 2.0 * (x * z - w * y)        # R[2, 0]
     r21 = 2.0 * (y * z + w * x)        # R[2, 1]
     r22 = 1.0 - 2.0 * (x * x + y * y)  # R[2, 2]

@@ -41,26 +41,36 @@ def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
     return np.array(_tips(q_arm.tolist(), _SXL, _SYL, cfg))
 
 
-def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
-    """Joints (swing, boom, elbow) (rad) putting arm ``k``'s tip at ``p`` in {R}; knee up.
-
-    Out-of-reach points are pulled onto the reachable sphere (the arm stretches toward them).
-    On Python floats (the same IEEE arithmetic as numpy scalars, without their per-operation cost).
-    """
-    px, py, pz = p.tolist() if isinstance(p, np.ndarray) else (float(v) for v in p)
+def ik_constants(cfg: RobotConfig, k: str) -> tuple[float, ...]:
+    """Arm ``k``'s IK constants for :func:`ik_f`, once per controller: the values :func:`ik`'s
+    formula forms from ``cfg`` on every call (sx mx, sy, my, mz, l1, l2, l1^2, l2^2, 2 l1 l2, the
+    reach l1 + l2 - 1e-6), each formed by the same operations, so the angles keep their bits."""
     sx, sy = CORNER[k]
     mx, my, mz = cfg.arm_mount
-    dx = px - sx * mx
+    l1, l2 = cfg.l1, cfg.l2
+    return (sx * mx, sy, my, mz, l1, l2, l1 * l1, l2 * l2, 2 * l1 * l2, l1 + l2 - 1e-6)
+
+
+def ik_f(px: float, py: float, pz: float, c: tuple[float, ...]) -> tuple[float, float, float]:
+    """Joints (swing, boom, elbow) (rad) putting the tip at (px, py, pz) in {R}, knee up, for the arm
+    of constants ``c`` (:func:`ik_constants`); on Python floats (numpy's per-call cost exceeds
+    this arithmetic). Out-of-reach points are pulled onto the reachable sphere (the arm stretches
+    toward them)."""
+    sxmx, sy, my, mz, l1, l2, l1l1, l2l2, l12, reach = c
+    dx = px - sxmx
     dy = sy * py - my
-    sw = math.atan2(dx, dy)
     r = math.hypot(dx, dy)
     h = -(pz - mz - 0.04)  # depth below the boom axis
-    l1, l2 = cfg.l1, cfg.l2
-    d = min(math.hypot(r, h), l1 + l2 - 1e-6)
-    c = (d * d - l1 * l1 - l2 * l2) / (2 * l1 * l2)
-    el = math.acos(max(-1.0, min(1.0, c)))
-    bm = math.atan2(h, r) - math.atan2(l2 * math.sin(el), l1 + l2 * math.cos(el))
-    return np.array([sw, bm, el])
+    d = min(math.hypot(r, h), reach)
+    el = math.acos(max(-1.0, min(1.0, (d * d - l1l1 - l2l2) / l12)))
+    return (math.atan2(dx, dy), math.atan2(h, r) - math.atan2(l2 * math.sin(el), l1 + l2 * math.cos(el)), el)
+
+
+def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
+    """Joints (swing, boom, elbow) (rad) putting arm ``k``'s tip at ``p`` in {R}; knee up
+    (:func:`ik_f` as an array)."""
+    px, py, pz = p.tolist() if isinstance(p, np.ndarray) else (float(v) for v in p)
+    return np.array(ik_f(px, py, pz, ik_constants(cfg, k)))
 
 
 def rotation_rc(roll: float, pitch: float) -> np.ndarray:

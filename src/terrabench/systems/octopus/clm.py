@@ -53,6 +53,8 @@ class CLMController(MachineController):
         self.cfg, self.robot, self.dt = cfg, robot, dt
         self.cmd = Command()
         self.targets = {k: self._target(k) for k in ARMS}
+        self._ikc = [ak.ik_constants(robot, k) for k in ARMS]  # each arm's IK constants (ak.ik_f)
+        self._tgt_q = {k: ak.ik(self.targets[k], robot, k) for k in ARMS}  # the transfer targets' joints
         self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
         self.tau_ref = np.zeros(4)
         self.t3 = np.zeros(4)
@@ -134,7 +136,7 @@ class CLMController(MachineController):
         k = moving[0]
         i = ARM_INDEX[k]
         q = obs.q_arm[i]
-        tgt = ak.ik(self.targets[k], self.robot, k)
+        tgt = self._tgt_q[k]
         ph = self.phase[k]
         if ph == 3:
             # lower: the tip target descends straight down over the transfer target (IK), so the
@@ -158,7 +160,7 @@ class CLMController(MachineController):
             # posture): a contact is a jump above it
             self.tau_ref[i] += cfg.tau_filter * (obs.tau_elbow[i] - self.tau_ref[i])
             new_ph = 4 if self.low_z[i] < tz - cfg.pit_depth else 3
-            c = ak.ik(np.array([tx, ty, self.low_z[i]]), self.robot, k)
+            c = ak.ik_f(tx, ty, float(self.low_z[i]), self._ikc[i])
         else:
             ab = max(cfg.arm_ab - self.extra_lift[i], self.robot.boom_range[0] + 0.05)
             new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
@@ -186,7 +188,7 @@ class CLMController(MachineController):
             # without its boom against its upper stop (a knee-up whip that would look like a stop)
             tx, ty, tz = self.targets[k]
             z, lo = float(self.tip_r[i, 2]), self.robot.boom_range[0] + 0.1
-            while z > tz and ak.ik(np.array([tx, ty, z]), self.robot, k)[1] < lo:
+            while z > tz and ak.ik_f(tx, ty, z, self._ikc[i])[1] < lo:
                 z -= 0.02
             self.low_z[i] = z
             self.att0 = (obs.pitch, obs.roll)
@@ -240,24 +242,26 @@ class CLMController(MachineController):
         a = self.tp - obs.pitch
         dx = v * self.dt * math.cos(a)
         out = False
+        feet, tip_z = self.foot.tolist(), self.tip_r[:, 2].tolist()  # Python floats: the same arithmetic
         for i, k in enumerate(ARMS):
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue
             if self.landing[i]:
                 self._settle(obs, k, i)
-            f = self.foot[i]
+            fx, fy, _ = feet[i]
             sx, sy = CORNER[k]
-            beyond = (f[0] < cfg.reach_min[0 if sx > 0 else 1]
-                      or math.hypot(f[0] - sx * mx, f[1] - sy * my) > cfg.reach_max)
+            beyond = (fx < cfg.reach_min[0 if sx > 0 else 1]
+                      or math.hypot(fx - sx * mx, fy - sy * my) > cfg.reach_max)
             if self.landing[i]:
                 # a foothold already beyond the range where the arm landed (a pitched body's
                 # descent ends far out): no transfer now brings it back, so the crawlers do not
                 # wait for it; the arm rolls with the body (a caster) until its next turn
                 self.caster[i] = beyond
             if cfg.arm_moving and not self.caster[i]:
-                f[0] -= dx
-            f[2] = self.tip_r[i, 2] - cfg.press
-            self.cmd.arm[i] = ak.ik(f, self.robot, k)
+                fx -= dx
+            fz = tip_z[i] - cfg.press
+            self.foot[i] = fx, fy, fz
+            self.cmd.arm[i] = ak.ik_f(fx, fy, fz, self._ikc[i])
             if beyond and not self.caster[i]:
                 out = True
                 self.out_arm = k

@@ -126,7 +126,7 @@ def transfer_step(phase: int, q: np.ndarray, cmd: np.ndarray, target: np.ndarray
             return 2, c
         return 1, c
     if phase == 2:
-        c[0] = c[0] + float(np.clip(target[0] - c[0], -d_swing, d_swing))
+        c[0] = c[0] + min(max(target[0] - c[0], -d_swing), d_swing)  # np.clip's value, NaN kept
         # arm stop case 1: the swing is blocked (it lags its command): lower it where it is
         if abs(target[0] - q[0]) < 0.03 or abs(c[0] - q[0]) > 0.25:
             c[0] = q[0]
@@ -134,7 +134,7 @@ def transfer_step(phase: int, q: np.ndarray, cmd: np.ndarray, target: np.ndarray
         return 2, c
     if phase == 3:
         c[1] = c[1] + d_lift * (1.0 if c[1] < target[1] + 0.5 else 0.0)
-        c[2] = c[2] + float(np.clip(target[2] - c[2], -d_lift, d_lift))
+        c[2] = c[2] + min(max(target[2] - c[2], -d_lift), d_lift)
         if c[1] >= target[1] + 0.5 - 1e-9:
             return 4, c
         return 3, c

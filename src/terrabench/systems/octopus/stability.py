@@ -60,34 +60,66 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
     return out[:_hull(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), out)]
 
 
+@numba.njit(cache=True)
+def _margin_parts(pts, cx, cy):  # pragma: no cover
+    """The margin's work but its last distance, compiled: the hull of the points (:func:`_hull`),
+    whether (cx, cy) is inside it, and the offsets (dx, dy) from (cx, cy) to the nearest point of
+    each hull edge whose squared length is within 1e-9 (relative) of the least, into ``cand``;
+    returns (hull length, inside, candidates, ``cand``). The caller takes Python's ``math.hypot`` of those
+    few (its own algorithm, not libm's), so the margin keeps the bits of the all-Python version:
+    an edge whose hypot is the least has a squared distance within ~1e-15 of the least (a
+    hull vertex is the nearest point of both its edges, each computed its own way)."""
+    n = pts.shape[0]
+    hull, cand = np.empty((2 * n + 1, 2)), np.empty((2 * n + 1, 2))
+    m = _hull(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), hull)
+    if m == 0:
+        return 0, False, 0, cand
+    if m == 1:
+        cand[0, 0], cand[0, 1] = cx - hull[0, 0], cy - hull[0, 1]
+        return 1, False, 1, cand
+    ne = 1 if m == 2 else m
+    inside = m > 2
+    best = math.inf
+    for a in range(ne):
+        b = a + 1 if a + 1 < m else 0
+        ax, ay, bx, by = hull[a, 0], hull[a, 1], hull[b, 0], hull[b, 1]
+        ex, ey = bx - ax, by - ay
+        den = ex * ex + ey * ey
+        u = 0.0
+        if not den < 1e-18:
+            t = ((cx - ax) * ex + (cy - ay) * ey) / den
+            u = t if t > 0.0 else 0.0  # Python's max(0.0, t): NaN gives 0.0
+            u = u if u < 1.0 else 1.0  # min(1.0, u)
+        dx, dy = cx - ax - u * ex, cy - ay - u * ey
+        cand[a, 0], cand[a, 1] = dx, dy
+        sq = dx * dx + dy * dy
+        if sq < best:
+            best = sq
+        if m > 2 and ex * (cy - ay) - ey * (cx - ax) < 0:
+            inside = False
+    k = 0
+    for a in range(ne):
+        dx, dy = cand[a, 0], cand[a, 1]
+        if dx * dx + dy * dy <= best * (1.0 + 1e-9) + 1e-300:
+            cand[k, 0], cand[k, 1] = dx, dy
+            k += 1
+    return m, inside, k, cand
+
+
 def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     """Signed distance (m) from ``cog_xy`` (2,) to the boundary of the hull of ``support_xy`` (n, 2).
 
     Positive inside, zero on an edge, negative outside (the distance to the nearest edge). Fewer
     than three non-collinear support points give no area: the margin is minus the distance to
-    the points' hull (a segment or a point), i.e. never positive.
+    the points' hull (a segment or a point), i.e. never positive. Compiled
+    (:func:`_margin_parts`) but the last distance, Python's ``math.hypot``.
     """
-    hull = convex_hull(support_xy)
-    if len(hull) == 0:
+    pts = support_xy if isinstance(support_xy, np.ndarray) and support_xy.dtype == np.float64 else \
+        np.asarray(support_xy, float)
+    m, inside, k, cand = _margin_parts(pts.reshape(-1, 2), float(cog_xy[0]), float(cog_xy[1]))
+    if m == 0:
         return float("nan")
-    cx, cy = float(cog_xy[0]), float(cog_xy[1])
-    pts = hull.tolist()
-    if len(pts) == 1:
-        return -math.hypot(cx - pts[0][0], cy - pts[0][1])
-    if len(pts) == 2:
-        return -_seg_dist(cx, cy, pts[0], pts[1])
-    # plain floats over the (few) hull edges: numpy's per-call cost exceeds this arithmetic
-    d, inside = math.inf, True
-    for a, b in zip(pts, pts[1:] + pts[:1]):
-        d = min(d, _seg_dist(cx, cy, a, b))
-        if (b[0] - a[0]) * (cy - a[1]) - (b[1] - a[1]) * (cx - a[0]) < 0:
-            inside = False
+    d = math.inf
+    for dx, dy in cand[:k].tolist():
+        d = min(d, math.hypot(dx, dy))
     return d if inside else -d
-
-
-def _seg_dist(px: float, py: float, a, b) -> float:
-    """Distance from (px, py) to the segment a-b."""
-    ex, ey = b[0] - a[0], b[1] - a[1]
-    den = ex * ex + ey * ey
-    u = 0.0 if den < 1e-18 else min(1.0, max(0.0, ((px - a[0]) * ex + (py - a[1]) * ey) / den))
-    return math.hypot(px - a[0] - u * ex, py - a[1] - u * ey)

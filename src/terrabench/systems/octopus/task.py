@@ -287,6 +287,7 @@ class OctopusTask(TaskBase):
         c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
         self._axis_f = ((c, s), (-s, c))
         self._prog_t, self._prog = -1.0, (0.0, 0.0)
+        self._att_t, self._att = -1.0, (0.0, 0.0)
         # the evaluation-only columns (margin, tip contacts) are computed on the rows the store
         # keeps (every log period, and the last): the same stored series at a fifth of the cost
         self._row_k = 0
@@ -334,6 +335,10 @@ class OctopusTask(TaskBase):
         # the sensed margin's points: the four track pulleys (the track footprint's ends)
         self._foot = np.array([model.geom(nm).id for side in Names.SIDES
                                for nm in Names.track_geoms(side) if not nm.endswith("_run")])
+        # per bit pattern of the tips in contact: the geoms whose points the sensed margin takes
+        # (those tips, then the pulleys), one fancy index a stored row
+        self._sensed_geoms = [np.concatenate((self.tip_geoms[[i for i in range(len(ARMS)) if b >> i & 1]],
+                                              self._foot)) for b in range(1 << len(ARMS))]
         # tip slip: where each tip's current contact run (support phase) began, NaN out of contact
         self._tip_start = np.full((len(ARMS), 3), np.nan)
         self._mech = (float("nan"),) * 3
@@ -354,9 +359,17 @@ class OctopusTask(TaskBase):
             self._prog, self._prog_t = (x * ca + y * sa, x * cp + y * sp), t
         return self._prog
 
+    def attitude(self) -> tuple[float, float]:
+        """The chassis' true (roll, pitch) (rad); computed once per instant (check and the stored
+        row's tip-back rule share it)."""
+        t = self.data.time
+        if t != self._att_t:
+            self._att, self._att_t = roll_pitch(self.data.xquat[self.chassis].tolist()), t
+        return self._att
+
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
         pr, lay = self.cfg.protocol, self.layout
-        roll, pitch = roll_pitch(self.data.xquat[self.chassis].tolist())  # Python floats: the same angles, faster
+        roll, pitch = self.attitude()
         over = turned_over(roll, pitch, pr.turn_over, TURN_OVER_PITCH)
         if over is not None:
             return over
@@ -440,7 +453,8 @@ class OctopusTask(TaskBase):
             return nan, nan, 0.0, nan, power
         fn = f[:, 0]
         total, on_crawlers = self.normal_load()
-        self._loaded_t[rg[fn > SUPPORT_LOAD]] = t
+        loaded = fn > SUPPORT_LOAD
+        self._loaded_t[rg[loaded]] = t
         v = d.qvel[:6]
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
@@ -451,10 +465,10 @@ class OctopusTask(TaskBase):
         # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
         # along its length, but MuJoCo reports a few chattering points of it at any one instant)
         hist = self._foot_hist
-        hist.append((t, pts[fn > SUPPORT_LOAD].copy()))
+        hist.append((t, pts[loaded]))
         while hist and t - hist[0][0] > SUPPORT_MEMORY + 1e-9:
             hist.popleft()
-        self._tip_back(t, hist[-1][1], rg[fn > SUPPORT_LOAD], cog)
+        self._tip_back(t, hist[-1][1], rg[loaded], cog)
         # the static margin at quasi-static instants, the margin over every contact at the others
         if quasi:
             foot = np.vstack([p for _, p in hist])
@@ -492,12 +506,12 @@ class OctopusTask(TaskBase):
         if not len(loaded) or n < 1e-6:
             self._behind = None
             return
-        pitch = roll_pitch(self.data.xquat[self.chassis].tolist())[1]
+        pitch = self.attitude()[1]
         hx, hy = float(ax[0]) / n, float(ax[1]) / n
         cs = float(cog[0]) * hx + float(cog[1]) * hy  # the COG along the heading (m)
-        along = loaded[:, 0] * hx + loaded[:, 1] * hy
-        k = int(np.argmin(along))
-        rs = float(along[k])  # the rearmost loaded contact (m)
+        along = [x * hx + y * hy for x, y in loaded.tolist()]
+        rs = min(along)  # the rearmost loaded contact (m); the first of equals, as np.argmin
+        k = along.index(rs)
         behind = rs > cs and bool(self._rear_end[geoms[k]])
         self._rear_prev = (rs, behind)
         same = abs(rs - prev[0]) < TIP_BACK_JUMP  # the same contact as on the last row (NaN: no)
@@ -617,21 +631,23 @@ class OctopusTask(TaskBase):
         drift is the 3-D distance of the tip from where the run began.
         """
         d = self.data
-        keep = [i for i in range(len(ARMS)) if tips >> i & 1]
-        pts = np.vstack((d.geom_xpos[self.tip_geoms[keep], :2], d.geom_xpos[self._foot, :2]))
-        sensed = stability_margin(pts, d.subtree_com[self.chassis, :2])
+        sensed = stability_margin(d.geom_xpos[self._sensed_geoms[tips], :2], d.subtree_com[self.chassis, :2])
         tp = d.geom_xpos[self.tip_geoms]
         st = self._tip_start
         drift = 0.0
         for i in range(len(ARMS)):
             if tips >> i & 1:
-                if np.isnan(st[i, 0]):
+                if math.isnan(st[i, 0]):
                     st[i] = tp[i]
                 else:
                     drift = max(drift, float(np.linalg.norm(tp[i] - st[i])))
             else:
                 st[i] = np.nan
-        v = float(np.max(np.abs(cmd.track))) if cmd is not None else float("nan")
+        if cmd is not None:
+            a, b = cmd.track.tolist()
+            v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)
+        else:
+            v = float("nan")
         return float(sensed), drift, v
 
     def power(self, obs: Observation) -> float:

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from terrabench.benchmark.trial import TrialSpec
-from terrabench.sim.checks import turned_over
+from terrabench.sim.checks import roll_pitch, turned_over
 from terrabench.systems.octopus.ccm import tip_back_angle
 from terrabench.systems.octopus.robot import RobotConfig
 from terrabench.systems.octopus.scenarios import SYSTEM
@@ -73,10 +73,11 @@ def test_ccm_without_the_rear_push_is_not_tipped_back():
 
 def _rule_stub():
     """An object with what :meth:`OctopusTask._tip_back` reads: the chassis x axis (a view, as
-    in the task), the chassis quaternion, the run state."""
+    in the task), the chassis attitude (from its quaternion), the run state."""
     st = SimpleNamespace(chassis=0, data=SimpleNamespace(xquat=np.zeros((1, 4))), _ax=np.zeros(3),
                          _behind=None, _rear_prev=(math.nan, False), _tipped=None,
                          _rear_end=np.array([True, False]))  # geom 0: a rear end (flipper tip), 1: a track run
+    st.attitude = lambda: roll_pitch(st.data.xquat[0])
 
     def row(t, pitch, cog_x, contacts_x, rear_geom=0):
         # nose up = a rotation about -y: x axis (cos p, 0, sin p); the first contact is on rear_geom

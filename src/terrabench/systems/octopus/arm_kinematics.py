@@ -4,27 +4,35 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from terrabench.systems.octopus.robot import ARMS, CORNER, RobotConfig
 
-_SXL = [float(CORNER[k][0]) for k in ARMS]
-_SYL = [float(CORNER[k][1]) for k in ARMS]
+_SX = np.array([float(CORNER[k][0]) for k in ARMS])
+_SY = np.array([float(CORNER[k][1]) for k in ARMS])
 
 
-def _tips(qs, sxs, sys_, cfg: RobotConfig) -> list[tuple[float, float, float]]:
-    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0), on Python
-    floats: tip centres in {R} (m) of arms with joints ``qs`` (swing, boom, elbow) at corners
-    (``sxs``, ``sys_``). With r = l1 cos(boom) + l2 cos(boom + elbow): (sx mx + r sin(swing),
-    sy (my + r cos(swing)), mz + 0.04 - l1 sin(boom) - l2 sin(boom + elbow)), the boom axis 0.04 m
-    above the mount."""
-    mx, my, mz = cfg.arm_mount
-    l1, l2, z0 = cfg.l1, cfg.l2, mz + 0.04
-    out = []
-    for (sw, bm, el), sx, sy in zip(qs, sxs, sys_):
+@numba.njit(cache=True)
+def _tips(q, sx, sy, mx, my, z0, l1, l2, out):  # pragma: no cover
+    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0), compiled:
+    tip centres in {R} (m) of the arms with joints ``q`` (n, 3) (swing, boom, elbow) at corner
+    signs (``sx``, ``sy``) into ``out`` (n, 3). With r = l1 cos(boom) + l2 cos(boom + elbow):
+    (sx mx + r sin(swing), sy (my + r cos(swing)), z0 - l1 sin(boom) - l2 sin(boom + elbow)),
+    z0 = mz + 0.04 (the boom axis 0.04 m above the mount). libm's sin and cos, as Python's math
+    calls them (the same bits, checked in tests/octopus/test_octopus_perf.py)."""
+    for a in range(q.shape[0]):
+        sw, bm, el = q[a, 0], q[a, 1], q[a, 2]
         reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
-        out.append((sx * mx + reach * math.sin(sw), sy * (my + reach * math.cos(sw)),
-                    z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)))
+        out[a, 0] = sx[a] * mx + reach * math.sin(sw)
+        out[a, 1] = sy[a] * (my + reach * math.cos(sw))
+        out[a, 2] = z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)
+
+
+def _fk(q: np.ndarray, sx: np.ndarray, sy: np.ndarray, cfg: RobotConfig) -> np.ndarray:
+    mx, my, mz = cfg.arm_mount
+    out = np.empty((len(sx), 3))
+    _tips(q, sx, sy, float(mx), float(my), mz + 0.04, float(cfg.l1), float(cfg.l2), out)
     return out
 
 
@@ -32,13 +40,13 @@ def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Tip of arm ``k`` in the robot frame {R} (m) for joints (swing, boom, elbow) (rad); the same
     numbers, bit for bit, as that arm's row of :func:`fk_all`."""
     sx, sy = CORNER[k]
-    return np.array(_tips([[float(v) for v in q]], [float(sx)], [float(sy)], cfg)[0])
+    return _fk(np.asarray(q, float).reshape(1, 3), np.array([float(sx)]), np.array([float(sy)]), cfg)[0]
 
 
 def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
     """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four in one
-    pass, on Python floats (numpy's per-call cost exceeds this arithmetic)."""
-    return np.array(_tips(q_arm.tolist(), _SXL, _SYL, cfg))
+    compiled pass."""
+    return _fk(np.asarray(q_arm, float).reshape(4, 3), _SX, _SY, cfg)
 
 
 def ik_constants(cfg: RobotConfig, k: str) -> tuple[float, ...]:

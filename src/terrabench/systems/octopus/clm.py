@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from terrabench.systems.base import MachineController, ModeMachine
@@ -38,6 +39,17 @@ GAIT_ORDER = ("RR", "RF", "LR", "LF")  # inferred from the paper's Fig. 14 descr
 ARM_INDEX = {k: i for i, k in enumerate(ARMS)}
 
 
+@numba.njit(cache=True)
+def _within(c, q, m):  # pragma: no cover
+    """``c`` (n, 3) clipped in place to [q - m, q + m]: numpy's minimum(maximum(c, q - m), q + m),
+    compiled (its semantics: each keeps its first operand when that is NaN or not beyond)."""
+    for a in range(c.shape[0]):
+        for b in range(c.shape[1]):
+            v, lo, hi = c[a, b], q[a, b] - m, q[a, b] + m
+            v = v if (v >= lo or math.isnan(v)) else lo
+            c[a, b] = v if (v <= hi or math.isnan(v)) else hi
+
+
 # ---------------------------------------------------------------------------- controller
 WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
 #: names of the controller states (the logged ``mode`` codes) in events and timelines
@@ -58,23 +70,23 @@ class CLMController(MachineController):
         self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
         self.tau_ref = np.zeros(4)
         self.t3 = np.zeros(4)
-        self.contact = np.zeros(4, bool)
+        self.contact = [False] * 4  # supporting tips (Python bools: read every tick, item by item)
         self.tip_c = np.zeros((4, 3))
         self.tip_r = np.zeros((4, 3))
-        self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
+        self.foot = [[0.0, 0.0, 0.0] for _ in ARMS]  # footholds of the supporting arms in {R} (m)
         self.tip_z = self.prev_tip_z = np.zeros(4)
         self.low_z = np.zeros(4)
         self.phase_t = np.zeros(4)  # time in the current lift/swing phase (s)
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
-        self.landing = np.zeros(4, bool)  # landed, pressing, not yet settled
+        self.landing = [False] * 4  # landed, pressing, not yet settled
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
         self.out_of_reach = False
         self.out_arm = ""  # the last arm whose foothold left its range (diagnostics)
         self.flip_prev, self.flip_still = 0.0, 0.0  # the front flipper angle and how long it has held (s)
         self.guarding = False  # the walk's pitch guard is backing the crawlers off
-        self.caster = np.zeros(4, bool)  # landed beyond its range: rolls with the body until its turn
+        self.caster = [False] * 4  # landed beyond its range: rolls with the body until its turn
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
         self.next_gait = 0
         self.pause_until = 0.0
@@ -108,19 +120,18 @@ class CLMController(MachineController):
 
     def _all_down(self) -> bool:
         """Every arm a support: all four tips in contact and none in transfer."""
-        return bool(self.contact.all()) and not any(self.phase.values())
+        return all(self.contact) and not any(self.phase.values())
 
     def _lead(self, obs) -> None:
-        m = self.cfg.max_lead
-        q = obs.q_arm
-        np.minimum(np.maximum(self.cmd.arm, q - m, out=self.cmd.arm), q + m, out=self.cmd.arm)
+        """The arm command kept within ``max_lead`` of the encoders."""
+        _within(self.cmd.arm, obs.q_arm, self.cfg.max_lead)
 
     def _transfer(self, obs) -> int:
         """Advance the arm in transfer (if any); returns its index or -1."""
         cfg = self.cfg
         moving = [k for k in ARMS if self.phase[k]]
         if not moving:
-            if obs.t < self.pause_until or self.landing.any():
+            if obs.t < self.pause_until or any(self.landing):
                 return -1
             if self.queue:
                 k = self.queue.pop(0)
@@ -208,7 +219,7 @@ class CLMController(MachineController):
         self.phase[k] = 0
         self.landing[i], self.still[i] = True, 0
         p = self.tip_r[i].copy()
-        self.foot[i] = p
+        self.foot[i] = p.tolist()
         self.cmd.arm[i] = ak.ik(p - np.array([0.0, 0.0, cfg.press]), self.robot, k)
 
     def _settle(self, obs, k: str, i: int) -> None:
@@ -242,26 +253,25 @@ class CLMController(MachineController):
         a = self.tp - obs.pitch
         dx = v * self.dt * math.cos(a)
         out = False
-        feet, tip_z = self.foot.tolist(), self.tip_r[:, 2].tolist()  # Python floats: the same arithmetic
+        tip_z, press, moving = self.tip_r[:, 2].tolist(), cfg.press, cfg.arm_moving  # Python floats
+        (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
         for i, k in enumerate(ARMS):
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue
             if self.landing[i]:
                 self._settle(obs, k, i)
-            fx, fy, _ = feet[i]
+            f = self.foot[i]
             sx, sy = CORNER[k]
-            beyond = (fx < cfg.reach_min[0 if sx > 0 else 1]
-                      or math.hypot(fx - sx * mx, fy - sy * my) > cfg.reach_max)
+            beyond = f[0] < (rmin_front if sx > 0 else rmin_rear) or math.hypot(f[0] - sx * mx, f[1] - sy * my) > rmax
             if self.landing[i]:
                 # a foothold already beyond the range where the arm landed (a pitched body's
                 # descent ends far out): no transfer now brings it back, so the crawlers do not
                 # wait for it; the arm rolls with the body (a caster) until its next turn
                 self.caster[i] = beyond
-            if cfg.arm_moving and not self.caster[i]:
-                fx -= dx
-            fz = tip_z[i] - cfg.press
-            self.foot[i] = fx, fy, fz
-            self.cmd.arm[i] = ak.ik_f(fx, fy, fz, self._ikc[i])
+            if moving and not self.caster[i]:
+                f[0] -= dx
+            f[2] = tip_z[i] - press
+            self.cmd.arm[i] = ak.ik_f(f[0], f[1], f[2], self._ikc[i])
             if beyond and not self.caster[i]:
                 out = True
                 self.out_arm = k
@@ -521,7 +531,7 @@ class CLMController(MachineController):
                 self.machine.go(obs.t, WALK, "booms and flippers released")
                 self.queue = list(GAIT_ORDER)
                 c.flip[:2] = cfg.flipper_start
-                self.contact[:] = False
+                self.contact[:] = [False] * 4
                 self.placing = True
 
     # ---------------------------------------------------------------- main
@@ -539,7 +549,7 @@ class CLMController(MachineController):
             c.track[:] = 0.0
             self._support(obs, 0.0)
             i = self._transfer(obs)
-            if i < 0 and not self.queue and not any(self.phase.values()) and not self.landing.any():
+            if i < 0 and not self.queue and not any(self.phase.values()) and not any(self.landing):
                 self.machine.go(obs.t, WALK, "four arms placed")
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
@@ -562,12 +572,14 @@ class CLMController(MachineController):
             self.guarding = obs.pitch > cfg.guard_pitch
             c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
             self.out_of_reach = self._support(obs, v)
+            q_flip, tau_flip = obs.q_flip.tolist(), obs.tau_flip.tolist()
             for f in (0, 1):
-                c.flip[f], _ = flipper_rule(obs.q_flip[f], obs.tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)
+                c.flip[f], _ = flipper_rule(q_flip[f], tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)
             # a supporting arm pushed hard (collision): it is transferred next
+            te, tr = obs.tau_elbow.tolist(), self.tau_ref.tolist()
             for i, k in enumerate(ARMS):
                 if (self.phase[k] == 0 and self.contact[i] and k not in self.queue
-                        and contact_detected(obs.tau_elbow[i], self.tau_ref[i], cfg.hit_torque)):
+                        and contact_detected(te[i], tr[i], cfg.hit_torque)):
                     self.queue.insert(0, k)
                     self.queue_reason[k] = (f"collision: elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
                                             f" > {cfg.hit_torque:g}")
@@ -576,11 +588,11 @@ class CLMController(MachineController):
             if all_down:
                 self.tp = terrain_angles(self.tip_c)[0]
             self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
-            at_limit = max(obs.q_flip[0], obs.q_flip[1]) > cfg.a0 - 0.1
+            at_limit = max(q_flip[0], q_flip[1]) > cfg.a0 - 0.1
             # a low riser presses near the flipper pivot: the torque rule stalls below the limit,
             # so a front flipper raised this steep in the level frame (encoder + IMU pitch) that
             # has stopped rising for edge_time also means an edge ahead
-            qf = max(obs.q_flip[0], obs.q_flip[1])
+            qf = max(q_flip[0], q_flip[1])
             self.flip_still = self.flip_still + self.dt if abs(qf - self.flip_prev) < 0.02 else 0.0
             if self.flip_still == 0.0:
                 self.flip_prev = qf

@@ -541,7 +541,7 @@ class OctopusTask(TaskBase):
         if not len(sel):
             return 0.0, 0.0
         fn = f[:, 0]
-        return float(fn.sum()), float(fn[self._side_of[rg] >= 0].sum())
+        return float(fn.sum()), float(fn[self._buf[3][:len(sel)] >= 0].sum())  # the pass's crawler sides
 
     def _buffers(self, n: int) -> tuple[np.ndarray, ...]:
         """Room for ``n`` contacts: indices, robot geoms, forces, sides, frames, and the frames'

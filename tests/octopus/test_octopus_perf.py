@@ -153,3 +153,96 @@ def test_one_forward_kinematics():
     tip = ak.fk(np.zeros(3), cfg, "RF")
     mx, my, mz = cfg.arm_mount
     assert tip.tolist() == pytest.approx([mx, -(my + cfg.l1 + cfg.l2), mz + 0.04])
+
+
+def _margin_python(pts: np.ndarray, c: np.ndarray) -> float:
+    """The margin as it was written on Python floats (the reference the compiled one keeps)."""
+    hull = convex_hull(pts).tolist()
+    cx, cy = float(c[0]), float(c[1])
+
+    def seg(a, b):
+        ex, ey = b[0] - a[0], b[1] - a[1]
+        den = ex * ex + ey * ey
+        u = 0.0 if den < 1e-18 else min(1.0, max(0.0, ((cx - a[0]) * ex + (cy - a[1]) * ey) / den))
+        return math.hypot(cx - a[0] - u * ex, cy - a[1] - u * ey)
+    if not hull:
+        return math.nan
+    if len(hull) == 1:
+        return -math.hypot(cx - hull[0][0], cy - hull[0][1])
+    if len(hull) == 2:
+        return -seg(hull[0], hull[1])
+    d, inside = math.inf, True
+    for a, b in zip(hull, hull[1:] + hull[:1]):
+        d = min(d, seg(a, b))
+        if (b[0] - a[0]) * (cy - a[1]) - (b[1] - a[1]) * (cx - a[0]) < 0:
+            inside = False
+    return d if inside else -d
+
+
+def test_compiled_margin_is_the_python_margin_bitwise():
+    """The compiled margin takes Python's hypot of the nearest edges only: the same bits as the
+    all-Python margin, also where the COG is nearest a hull vertex (two edges, two roundings),
+    on an edge, on rounded (duplicate, collinear) and tiny sets."""
+    rng = np.random.default_rng(3)
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
+    cases = [(sq, np.array(c, float)) for c in ([0, 0], [1, 1], [0.5, 0], [2, 2], [0.5, 0.5], [1.5, 0.5])]
+    # COGs outside near a vertex where the two edges' offsets round apart: the same squared
+    # distance but hypots an ulp apart (the first), and a strictly smaller squared distance on the
+    # edge whose hypot is the larger (the others; found by search): a margin that took the hypot
+    # of the least squared distance alone fails here
+    cases += [(np.array(p), np.array(c)) for p, c in (
+        ([[0.5026828498748657, 0.989713033285805], [-0.1642945926252907, -1.0743648582284346],
+          [0.8730421526217066, -1.2803939447145731]], [1.1835510793917559, -2.405464531501869]),
+        ([[0.07538353749054373, -0.46568513805347683], [-0.6350006077789646, 1.4205826530958714],
+          [0.20737640374994265, -1.0796009660974024]], [-0.6291704802820655, -1.4277316669736013]),
+        ([[0.4431326461987734, 0.12408880336078919], [-0.3448791633186918, -0.8786591636129535],
+          [0.8922948570521654, -0.39280802735410586]], [-0.5502952995527672, -0.9851676477819332]),
+        ([[-0.7605604067216812, -1.4915671494867404], [0.9124352756987358, 0.11889433026950108],
+          [-0.1185673226253151, -0.005134089996955464]], [1.1035223843336275, 0.5478638720124575]))]
+    for _ in range(3000):  # triangles, the COG near a vertex
+        p = rng.normal(size=(3, 2))
+        cases.append((p, p[rng.integers(3)] + rng.normal(size=2) * 0.5))
+    for _ in range(3000):
+        n = int(rng.integers(1, 30))
+        p = rng.normal(size=(n, 2)) * rng.choice([1e-3, 1.0, 10.0])
+        if rng.random() < 0.3:
+            p = np.round(p, 1)
+        c = p[rng.integers(n)] + rng.normal(size=2) * rng.choice([1e-9, 1.0])
+        cases.append((p, c))
+    for p, c in cases:
+        want, got = _margin_python(p, c), stability_margin(p, c)
+        assert (math.isnan(want) and math.isnan(got)) or (want == got and math.copysign(1, want) == math.copysign(1, got))
+
+
+def test_python_float_shortcuts_are_numpys_values():
+    """The per-tick shortcuts on Python floats give numpy's bits: the tip drift (np.linalg.norm),
+    the IK on per-arm constants (the formula on the config), the compiled arm lead
+    (np.minimum(np.maximum()))."""
+    from terrabench.systems.octopus.clm import _within
+    from terrabench.systems.octopus.task import tip_drift
+
+    cfg = SYSTEM.load_config(SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1)[0].config).robot
+    rng = np.random.default_rng(4)
+    for _ in range(2000):
+        a, b = rng.normal(size=3) * 10.0 ** rng.uniform(-4, 0), rng.normal(size=3) * 0.1
+        assert tip_drift(a.tolist(), b.tolist()) == float(np.linalg.norm(a - b))
+    for k in ARMS:
+        c = ak.ik_constants(cfg, k)
+        for p in rng.uniform(-1.2, 1.2, (500, 3)):
+            px, py, pz = p.tolist()
+            sx, sy = {"LF": (1, 1), "RF": (1, -1), "LR": (-1, 1), "RR": (-1, -1)}[k]
+            mx, my, mz = cfg.arm_mount
+            dx, dy = px - sx * mx, sy * py - my
+            r, h = math.hypot(dx, dy), -(pz - mz - 0.04)
+            d = min(math.hypot(r, h), cfg.l1 + cfg.l2 - 1e-6)
+            el = math.acos(max(-1.0, min(1.0, (d * d - cfg.l1 * cfg.l1 - cfg.l2 * cfg.l2) / (2 * cfg.l1 * cfg.l2))))
+            bm = math.atan2(h, r) - math.atan2(cfg.l2 * math.sin(el), cfg.l1 + cfg.l2 * math.cos(el))
+            assert ak.ik_f(px, py, pz, c) == (math.atan2(dx, dy), bm, el)
+    for _ in range(500):
+        arm = rng.normal(size=(4, 3))
+        q = arm + rng.normal(size=(4, 3)) * 0.3
+        if rng.random() < 0.2:
+            arm[rng.integers(4), rng.integers(3)] = np.nan
+        want = np.minimum(np.maximum(arm, q - 0.15), q + 0.15)
+        _within(arm, q, 0.15)
+        assert np.array_equal(arm, want, equal_nan=True)

@@ -67,6 +67,13 @@ ROUGH_LEVELS = {"rough-1": 0.01, "rough-2": 0.02, "rough-3": 0.04}
 ROUGH_GOAL = 0.75
 
 
+def tip_drift(p: list[float], q: list[float]) -> float:
+    """|p - q| of two 3-D points (m) on Python floats: np.linalg.norm's value (the square root of
+    a sequential dot product; checked in tests/octopus/test_octopus_perf.py), without its cost."""
+    x, y, z = p[0] - q[0], p[1] - q[1], p[2] - q[2]
+    return math.sqrt(x * x + y * y + z * z)
+
+
 @numba.njit(cache=True)
 def _contact_pass(ncon, geom, efc_address, dim, friction, frame, efc_force, ground, tip_of, side_of,
                   sel, rg, f, side, fr):  # pragma: no cover
@@ -339,8 +346,8 @@ class OctopusTask(TaskBase):
         # (those tips, then the pulleys), one fancy index a stored row
         self._sensed_geoms = [np.concatenate((self.tip_geoms[[i for i in range(len(ARMS)) if b >> i & 1]],
                                               self._foot)) for b in range(1 << len(ARMS))]
-        # tip slip: where each tip's current contact run (support phase) began, NaN out of contact
-        self._tip_start = np.full((len(ARMS), 3), np.nan)
+        # tip slip: where each tip's current contact run (support phase) began, None out of contact
+        self._tip_start: list[list[float] | None] = [None] * len(ARMS)
         self._mech = (float("nan"),) * 3
         self.apply_tracks(np.zeros(2))
         return self.obs
@@ -632,17 +639,17 @@ class OctopusTask(TaskBase):
         """
         d = self.data
         sensed = stability_margin(d.geom_xpos[self._sensed_geoms[tips], :2], d.subtree_com[self.chassis, :2])
-        tp = d.geom_xpos[self.tip_geoms]
+        tp = d.geom_xpos[self.tip_geoms].tolist()
         st = self._tip_start
         drift = 0.0
         for i in range(len(ARMS)):
             if tips >> i & 1:
-                if math.isnan(st[i, 0]):
+                if st[i] is None:
                     st[i] = tp[i]
                 else:
-                    drift = max(drift, float(np.linalg.norm(tp[i] - st[i])))
+                    drift = max(drift, tip_drift(tp[i], st[i]))
             else:
-                st[i] = np.nan
+                st[i] = None
         if cmd is not None:
             a, b = cmd.track.tolist()
             v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)

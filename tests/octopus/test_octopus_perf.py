@@ -246,3 +246,23 @@ def test_python_float_shortcuts_are_numpys_values():
         want = np.minimum(np.maximum(arm, q - 0.15), q + 0.15)
         _within(arm, q, 0.15)
         assert np.array_equal(arm, want, equal_nan=True)
+
+
+def test_footprint_window_is_the_stacked_rows():
+    """The footprint's one buffer holds what the last SUPPORT_MEMORY s of rows stacked would:
+    the same points in the same order, across expiry, empty rows, gaps and growth."""
+    import collections
+
+    from terrabench.systems.octopus.stability import Footprint
+
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        fp, hist, t = Footprint(0.5, capacity=int(rng.integers(1, 40))), collections.deque(), 0.0
+        for _ in range(150):
+            t += float(rng.choice([0.02, 0.1, 0.1, 0.3, 0.6]))
+            pts = rng.normal(size=(int(rng.integers(0, 30)), 2))
+            fp.add(t, pts)
+            hist.append((t, pts.copy()))
+            while hist and t - hist[0][0] > 0.5 + 1e-9:
+                hist.popleft()
+            assert np.array_equal(fp.points(), np.vstack([p for _, p in hist]))

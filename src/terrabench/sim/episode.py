@@ -208,11 +208,18 @@ class Episode:
             stop = ("timeout", "time limit reached")
         if stop is not None:
             self.stop = stop
-            row = self._log[k]
-            row[: self._nc] = task.row(obs, None)
-            row[self._nc] = self.energy
+            self._store(k, task.row(obs, None))
         self.obs = obs
         return obs, stop
+
+    def _store(self, k: int, values: Sequence[float]) -> None:
+        """Log row ``k``: the task's row, then the energy so far (a tuple in one assignment)."""
+        if isinstance(values, tuple):
+            self._log[k] = (*values, self.energy)
+        else:
+            row = self._log[k]
+            row[: self._nc] = values
+            row[self._nc] = self.energy
 
     def step(self, cmd: Any) -> tuple[Any, Stop | None]:
         """Apply ``cmd`` for one control period; returns ``(obs, stop)``."""
@@ -220,9 +227,7 @@ class Episode:
             raise RuntimeError(f"the episode has ended ({self.stop[0]}: {self.stop[1]}); start a new one")
         task, obs, k = self.task, self.obs, self.k
         task.apply(cmd)
-        row = self._log[k]
-        row[: self._nc] = task.row(obs, cmd)
-        row[self._nc] = self.energy
+        self._store(k, task.row(obs, cmd))
         if self.on_step is not None:
             self.on_step(task, obs, cmd)
         self.energy += self.period * task.power(obs)

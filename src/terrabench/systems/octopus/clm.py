@@ -74,7 +74,7 @@ class CLMController(MachineController):
         self.tip_c = np.zeros((4, 3))
         self.tip_r = np.zeros((4, 3))
         self.foot = [[0.0, 0.0, 0.0] for _ in ARMS]  # footholds of the supporting arms in {R} (m)
-        self.tip_z = self.prev_tip_z = np.zeros(4)
+        self.tip_z = self.prev_tip_z = [0.0] * 4  # tip heights in {R} now and a tick ago (m)
         self.low_z = np.zeros(4)
         self.phase_t = np.zeros(4)  # time in the current lift/swing phase (s)
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
@@ -120,7 +120,7 @@ class CLMController(MachineController):
 
     def _all_down(self) -> bool:
         """Every arm a support: all four tips in contact and none in transfer."""
-        return all(self.contact) and not any(self.phase.values())
+        return not any(self.phase.values()) and all(self.contact)
 
     def _lead(self, obs) -> None:
         """The arm command kept within ``max_lead`` of the encoders."""
@@ -129,7 +129,7 @@ class CLMController(MachineController):
     def _transfer(self, obs) -> int:
         """Advance the arm in transfer (if any); returns its index or -1."""
         cfg = self.cfg
-        moving = [k for k in ARMS if self.phase[k]]
+        moving = [k for k, ph in self.phase.items() if ph]  # (the dict is in ARMS order)
         if not moving:
             if obs.t < self.pause_until or any(self.landing):
                 return -1
@@ -253,7 +253,7 @@ class CLMController(MachineController):
         a = self.tp - obs.pitch
         dx = v * self.dt * math.cos(a)
         out = False
-        tip_z, press, moving = self.tip_r[:, 2].tolist(), cfg.press, cfg.arm_moving  # Python floats
+        tip_z, press, moving = self.tip_z, cfg.press, cfg.arm_moving
         (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
         for i, k in enumerate(ARMS):
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
@@ -542,7 +542,7 @@ class CLMController(MachineController):
         # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
         self.tip_r = ak.fk_all(obs.q_arm, self.robot)
         self.tip_c = self.tip_r @ ak.rotation_rc(obs.roll, obs.pitch).T
-        self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].copy()
+        self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].tolist()
         self.heading += obs.yaw_rate * self.dt
         z = self.tip_c[:, 2]
         if self.state == INIT:

@@ -5,6 +5,7 @@ Evaluation-only ground truth (the task computes it from MuJoCo contacts); contro
 
 from __future__ import annotations
 
+import collections
 import math
 
 import numba
@@ -123,3 +124,33 @@ def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     for dx, dy in cand[:k].tolist():
         d = min(d, math.hypot(dx, dy))
     return d if inside else -d
+
+
+class Footprint:
+    """The support points of the last ``memory`` s: each stored row adds the ground points of its
+    loaded contacts (:meth:`add`, rows in time order); :meth:`points` is the window, oldest
+    first, as a view of one contiguous buffer (what a list of rows stacked would hold, without the
+    stacking)."""
+
+    def __init__(self, memory: float, capacity: int = 256):
+        self.memory = memory
+        self._buf = np.empty((capacity, 2))
+        self._start = self._end = 0
+        self._rows: collections.deque[tuple[float, int]] = collections.deque()  # (t, points) per row
+
+    def add(self, t: float, pts: np.ndarray) -> None:
+        """Row ``t``'s points (m, 2); rows older than ``memory`` (+1e-9) s before ``t`` leave."""
+        rows = self._rows
+        while rows and t - rows[0][0] > self.memory + 1e-9:
+            self._start += rows.popleft()[1]
+        m, n = len(pts), self._end - self._start
+        if self._end + m > len(self._buf):  # move the window to the front, growing if it must
+            buf = np.empty((max(len(self._buf), 2 * (n + m)), 2)) if n + m > len(self._buf) else self._buf
+            buf[:n] = self._buf[self._start:self._end].copy()
+            self._buf, self._start, self._end = buf, 0, n
+        self._buf[self._end:self._end + m] = pts
+        self._end += m
+        rows.append((t, m))
+
+    def points(self) -> np.ndarray:
+        return self._buf[self._start:self._end]

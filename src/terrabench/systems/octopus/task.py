@@ -7,7 +7,6 @@ approach axis, the stability margin from MuJoCo contacts, the stop checks.
 
 from __future__ import annotations
 
-import collections
 import math
 from dataclasses import dataclass
 
@@ -22,7 +21,7 @@ from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
 from terrabench.systems.octopus.rules import Command
 from terrabench.systems.octopus.sensing import Observation, roll_pitch
-from terrabench.systems.octopus.stability import stability_margin
+from terrabench.systems.octopus.stability import Footprint, stability_margin
 from terrabench.terrain import pieces
 from terrabench.terrain.mjcf import GROUND_BIT
 
@@ -293,7 +292,7 @@ class OctopusTask(TaskBase):
         self._on_top_n = 0
         c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
         self._axis_f = ((c, s), (-s, c))
-        self._prog_t, self._prog = -1.0, (0.0, 0.0)
+        self._prog_t, self._prog = -1.0, (0.0, 0.0, 0.0)
         self._att_t, self._att = -1.0, (0.0, 0.0)
         # the evaluation-only columns (margin, tip contacts) are computed on the rows the store
         # keeps (every log period, and the last): the same stored series at a fifth of the cost
@@ -314,7 +313,7 @@ class OctopusTask(TaskBase):
         self._side_of[self.surf_id] = self.surf_side
         self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
         self._loaded_t = np.full(model.ngeom, -np.inf)
-        self._foot_hist = collections.deque()
+        self._footprint = Footprint(SUPPORT_MEMORY)
         self._behind: tuple[float, ...] | None = None  # tip-back run: (t, pitch, COG, contact) at its start
         self._rear_prev = (math.nan, False)  # the last stored row's rearmost loaded contact (m), COG behind it
         # the robot's rear ends (tip-back pivots, :meth:`_tip_back`): the rear flippers, the main
@@ -358,12 +357,15 @@ class OctopusTask(TaskBase):
 
     def progress(self) -> tuple[float, float]:
         """(along, across) the approach axis (m); computed once per instant (check and row share it)."""
+        return self._position()[:2]
+
+    def _position(self) -> tuple[float, float, float]:
+        """(along, across) the approach axis and the chassis height (m), once per instant."""
         t = self.data.time
         if t != self._prog_t:
-            p = self.data.xpos[self.chassis]
-            x, y = float(p[0]), float(p[1])
+            x, y, z = self.data.xpos[self.chassis].tolist()
             (ca, sa), (cp, sp) = self._axis_f
-            self._prog, self._prog_t = (x * ca + y * sa, x * cp + y * sp), t
+            self._prog, self._prog_t = (x * ca + y * sa, x * cp + y * sp, z), t
         return self._prog
 
     def attitude(self) -> tuple[float, float]:
@@ -382,13 +384,12 @@ class OctopusTask(TaskBase):
             return over
         if self._tipped is not None:
             return "tipped_back", self._tipped["reason"]
-        s, lat = self.progress()
+        s, lat, z = self._position()
         goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
         if slow:
             stuck = self._stall(self.data.time, s, lat, abs(goal - s), f"at s = {s:.2f} m")
             if stuck is not None:
                 return stuck
-        z = float(self.data.xpos[self.chassis, 2])
         stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
         if lay.kind == "block":
             past = s > lay.edge + pr.block_past
@@ -471,14 +472,12 @@ class OctopusTask(TaskBase):
         # the footprint: the ground points of the contacts that carried > SUPPORT_LOAD N on the
         # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
         # along its length, but MuJoCo reports a few chattering points of it at any one instant)
-        hist = self._foot_hist
-        hist.append((t, pts[loaded]))
-        while hist and t - hist[0][0] > SUPPORT_MEMORY + 1e-9:
-            hist.popleft()
-        self._tip_back(t, hist[-1][1], rg[loaded], cog)
+        now = pts[loaded]
+        self._footprint.add(t, now)
+        self._tip_back(t, now, rg[loaded], cog)
         # the static margin at quasi-static instants, the margin over every contact at the others
         if quasi:
-            foot = np.vstack([p for _, p in hist])
+            foot = self._footprint.points()
             m_load, m_all = (stability_margin(foot, cog) if len(foot) else nan), nan
         else:
             m_load, m_all = nan, stability_margin(pts, cog)
@@ -608,8 +607,7 @@ class OctopusTask(TaskBase):
         return self._contacts()[3]
 
     def row(self, obs: Observation, cmd: Command | None) -> tuple[float, ...]:
-        s, lat = self.progress()
-        z = float(self.data.xpos[self.chassis, 2])
+        s, lat, z = self._position()
         if cmd is None or self._row_k % self._row_stride == 0:
             self._sample, self._tips = self.sample(), float(self.tip_contacts())
             self._mech = self._mechanism(int(self._tips), cmd)

@@ -71,7 +71,8 @@ class CLMController(MachineController):
         self.tau_ref = np.zeros(4)
         self.t3 = np.zeros(4)
         self.contact = [False] * 4  # supporting tips (Python bools: read every tick, item by item)
-        self.tip_c = np.zeros((4, 3))
+        self._tip_c = np.zeros((4, 3))  # the tips in {C} this tick (tip_c), None until first used
+        self._att = (0.0, 0.0)  # this tick's IMU (roll, pitch) (rad)
         self.tip_r = np.zeros((4, 3))
         self.foot = [[0.0, 0.0, 0.0] for _ in ARMS]  # footholds of the supporting arms in {R} (m)
         self.tip_z = self.prev_tip_z = [0.0] * 4  # tip heights in {R} now and a tick ago (m)
@@ -102,6 +103,15 @@ class CLMController(MachineController):
         self.placing = False  # since a release, until the four arms are down again (place_pitch)
         self.machine = ModeMachine(INIT, MODE_NAMES)  # the controller state; records every change
 
+
+    @property
+    def tip_c(self) -> np.ndarray:
+        """(4, 3) arm tips in {C} (m): this tick's encoders' tips (``tip_r``) turned level by the
+        IMU (eqs. 10-12), computed on first use in a tick (the walk reads them only with all four
+        tips down, the climb every tick)."""
+        if self._tip_c is None:
+            self._tip_c = self.tip_r @ ak.rotation_rc(*self._att).T
+        return self._tip_c
 
     def _arm_event(self, t: float, k: str, src: str, dst: str, reason: str) -> None:
         self.machine.note(t, f"{k}.{src}", f"{k}.{dst}", reason)
@@ -541,10 +551,9 @@ class CLMController(MachineController):
             self._start(obs)
         # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
         self.tip_r = ak.fk_all(obs.q_arm, self.robot)
-        self.tip_c = self.tip_r @ ak.rotation_rc(obs.roll, obs.pitch).T
+        self._tip_c, self._att = None, (obs.roll, obs.pitch)  # {C}: on first use this tick (tip_c)
         self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].tolist()
         self.heading += obs.yaw_rate * self.dt
-        z = self.tip_c[:, 2]
         if self.state == INIT:
             c.track[:] = 0.0
             self._support(obs, 0.0)
@@ -585,9 +594,10 @@ class CLMController(MachineController):
                                             f" > {cfg.hit_torque:g}")
             i = self._transfer(obs)
             all_down = self._all_down()
-            if all_down:
+            if all_down:  # the four-tip exploration (z: the tips' heights in {C}, read below too)
                 self.tp = terrain_angles(self.tip_c)[0]
-            self.last_case = terrain_case(z, cfg.sigma) if all_down else self.last_case
+                z = self.tip_c[:, 2]
+                self.last_case = terrain_case(z, cfg.sigma)
             at_limit = max(q_flip[0], q_flip[1]) > cfg.a0 - 0.1
             # a low riser presses near the flipper pivot: the torque rule stalls below the limit,
             # so a front flipper raised this steep in the level frame (encoder + IMU pitch) that

@@ -297,7 +297,12 @@ class CLMController(MachineController):
         stand on, -Z_C(front tips' midpoint) - H2. With the rear tips on the lower ground this is
         eqs. 9-12's H - H_EST (H_EST = front less rear tip height); it needs no rear tip down there,
         so it holds when the rear arms have lifted clear."""
-        return -float(np.mean(self.tip_c[:2, 2])) - self.cfg.h2
+        return -self._front_mid_z() - self.cfg.h2
+
+    def _front_mid_z(self) -> float:
+        """Z_C of the front tips' midpoint (m) (np.mean's value for two)."""
+        z0, z1 = self.tip_c[:2, 2].tolist()
+        return (z0 + z1) / 2
 
     def _nose_start(self, obs, resume: bool = False) -> None:
         """State of a (fresh or resumed) nose climb: every arm a support, none lifted clear."""
@@ -310,16 +315,16 @@ class CLMController(MachineController):
         self.over = resume
         self.up = resume
 
-    def _rear_pivot(self, obs) -> np.ndarray:
+    def _rear_pivot(self, obs) -> tuple[float, float]:
         """The rear ground contact in {R} (x, z) the body pitches about: the lower in {C} of the rear
         pulley's bottom and the rear flipper tip pulleys' bottom (encoders + IMU)."""
         r = self.robot
-        a = float(np.mean(obs.q_flip[2:]))  # rear flipper angle (> 0 lifts the tip)
-        pul = np.array([-r.pulley_x, -r.pulley_r])
-        tip = np.array([-r.pulley_x - r.flipper_len * math.cos(a), r.flipper_len * math.sin(a) - r.flipper_tip_r])
-        sp = math.sin(obs.pitch)
-        zc = lambda p: p[1] * math.cos(obs.pitch) + p[0] * sp  # noqa: E731
-        return tip if zc(tip) < zc(pul) else pul
+        q2, q3 = obs.q_flip[2:].tolist()
+        a = (q2 + q3) / 2  # rear flipper angle (> 0 lifts the tip) (np.mean's value for two)
+        pul = (-r.pulley_x, -r.pulley_r)
+        tip = (-r.pulley_x - r.flipper_len * math.cos(a), r.flipper_len * math.sin(a) - r.flipper_tip_r)
+        cp, sp = math.cos(obs.pitch), math.sin(obs.pitch)
+        return tip if tip[1] * cp + tip[0] * sp < pul[1] * cp + pul[0] * sp else pul
 
     def _climb_nose(self, obs) -> None:
         """The climb of the paper's Fig. 9 (eqs. 28-29; ``nose_climb``, the default).
@@ -371,7 +376,7 @@ class CLMController(MachineController):
         # which holds when the front tips are off the top
         rear = [self.tip_c[j, 2] for j in (2, 3) if not self.lifted[j]]
         top = (min(rear) - r.tip_r + self.h_est if rear and not self.up
-               else float(np.mean(self.tip_c[:2, 2])) - r.tip_r)
+               else self._front_mid_z() - r.tip_r)
         pulley_bottom = r.pulley_x * math.sin(obs.pitch) - r.pulley_r
         if pulley_bottom > top + cfg.lift_margin and not self.over:
             self.over = True
@@ -385,10 +390,13 @@ class CLMController(MachineController):
         a = self.pitch0 - obs.pitch
         lx, lz = v * self.dt * math.cos(a), v * self.dt * math.sin(a)
         mx, my, _ = r.arm_mount
+        px, pz = piv
         for i, k in enumerate(ARMS):
             if self.lifted[i]:
                 continue
             t = self.lift_tgt[i]
+            tx, ty, tz = t.tolist()  # Python floats (the same arithmetic), written back below
+            tip_z = self.tip_z[i]
             front = i < 2
             if front and not self.over:
                 # a lifting boom: its target moves down in {R} (a position lift, self-limiting). The
@@ -397,42 +405,44 @@ class CLMController(MachineController):
                 # pitch 0.2 -> 0.9 rad in 0.5 s); without it in z the push eases as the nose rises.
                 # No travel: the body is against the riser (travel counts from H >= H_EST)
                 if cfg.climb_hold:
-                    t[0] = piv[0] + (t[0] - piv[0]) * cs + (t[2] - piv[1]) * sn
+                    tx = px + (tx - px) * cs + (tz - pz) * sn
                 if obs.pitch < cfg.climb_pitch and h < cfg.lift_margin:
-                    t[2] -= cfg.lift_dz
+                    tz -= cfg.lift_dz
                 # a tip the rising nose has lifted off the top comes down onto it again (a loaded
                 # tip sits above its target by more than the press: unchanged)
-                t[2] = min(t[2], self.tip_r[i, 2] - cfg.climb_press)
-                c.arm[i] = ak.ik(t, r, k)
+                tz = min(tz, tip_z - cfg.climb_press)
+                t[:] = tx, ty, tz
+                c.arm[i] = ak.ik_f(tx, ty, tz, self._ikc[i])
                 continue
             # a pressing (or pushing) arm: from its sensed tip (x) and its target (z), the tick's
             # predicted motion; x does not accumulate (odometry counts while the crawlers are blocked)
-            x0 = t[0]
-            dx, dz = t[0] - piv[0], t[2] - piv[1]
-            t[0], t[2] = piv[0] + dx * cs + dz * sn - lx, piv[1] - dx * sn + dz * cs - lz
+            x0 = tx
+            dx, dz = tx - px, tz - pz
+            tx, tz = px + dx * cs + dz * sn - lx, pz - dx * sn + dz * cs - lz
             if not front:
                 # x: the rear tips keep their footholds (a pitch-change prediction about the rear
                 # contact moved them more: measured, tip slip 0.37 -> 0.45 m); the body advances only
                 # once lifted over the edge (S's rule: odometry from H >= H_EST), before that its
                 # crawlers push on the riser
-                t[0] = x0 - (lx if up else 0.0)
+                tx = x0 - (lx if up else 0.0)
             if not front and self.over:
                 # the front on the top, on its crawlers: the rear booms lift the rear (eq. 28) until H
                 # (the rear tips, on the lower ground) exceeds H_EST by lift_margin, the nose not below
                 # -climb_pitch; the front crawlers carry the front, the rear flippers push
                 if h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0:
-                    t[2] -= cfg.lift_dz
+                    tz -= cfg.lift_dz
             else:
                 # press: the target at most climb_press below the sensed tip (a lifting arm unloads
                 # at lift_dz a tick)
-                t[2] = min(t[2] + cfg.lift_dz, self.tip_r[i, 2] - cfg.climb_press)
+                tz = min(tz + cfg.lift_dz, tip_z - cfg.climb_press)
+            t[:] = tx, ty, tz
             sx, sy = CORNER[k]
-            beyond = ((t[0] < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
-                      or math.hypot(t[0] - sx * mx, t[1] - sy * my) > cfg.reach_max)
+            beyond = ((tx < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
+                      or math.hypot(tx - sx * mx, ty - sy * my) > cfg.reach_max)
             # a front arm over the top has unloaded (its target back at the press): the front crawlers
             # carry the front now, and the arm lifts clear (pressing on, it would straighten into a
             # strut as the nose rises)
-            beyond = beyond or (front and t[2] >= self.tip_r[i, 2] - cfg.climb_press - 1e-6)
+            beyond = beyond or (front and tz >= tip_z - cfg.climb_press - 1e-6)
             if beyond and (not front or self.over):
                 self.lifted[i] = True
                 self.contact[i] = False
@@ -440,7 +450,7 @@ class CLMController(MachineController):
                 c.arm[i] = np.array([q[0], cfg.arm_ab, ELBOW_LIFT])
                 self._arm_event(obs.t, k, SUPPORT, TRANSFER, "climb: foothold out of range, lifted clear")
                 continue
-            c.arm[i] = ak.ik(t, r, k)
+            c.arm[i] = ak.ik_f(tx, ty, tz, self._ikc[i])
         # flippers, eq. 29 (A' - dF) with a torque-limited lead
         # the front flipper tip clears the edge when, a pulley radius ahead of its pivot (the pulley
         # against the riser), its tip pulley's bottom is above the top
@@ -454,7 +464,7 @@ class CLMController(MachineController):
                 # the nose up again with the rear over the edge: the next riser (a short tread), the
                 # flippers go back to their cruise angle so their undersides meet its edge
                 goal = cfg.flipper_start if (up and obs.pitch > cfg.mount_pitch) else max(-obs.pitch, cfg.flip_min)
-                c.flip[f] += float(np.clip(goal - c.flip[f], -cfg.release_d_f, cfg.release_d_f))
+                c.flip[f] += min(max(goal - c.flip[f], -cfg.release_d_f), cfg.release_d_f)  # np.clip's value
             elif f < 2:
                 if obs.pitch > cfg.climb_pitch:
                     c.flip[f] = max(c.flip[f], obs.q_flip[f])  # the nose is up enough: hold
@@ -508,7 +518,7 @@ class CLMController(MachineController):
                         continue
                     self.lift_tgt[i, 2] -= cfg.lift_dz if front else cfg.lift_dz * cfg.lift_rear
             for i, k in enumerate(ARMS):
-                c.arm[i] = ak.ik(self.lift_tgt[i], self.robot, k)
+                c.arm[i] = ak.ik_f(*self.lift_tgt[i].tolist(), self._ikc[i])
             for f in range(4):
                 # eq. 29 (A' - dF), the command kept within flip_lead of the measured angle:
                 # a flipper that meets the top (front) or the ground (rear) presses with kp * lead

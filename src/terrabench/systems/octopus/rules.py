@@ -56,7 +56,8 @@ def cog_height(rear_tips_c: np.ndarray, h2: float) -> float:
     radius (the COG is fixed in the paper). H is then the track bottom's height above the
     ground the rear arms stand on: once H > H_EST the tracks clear the step.
     """
-    h1 = abs(float(np.mean(rear_tips_c[:, 2])))
+    z = rear_tips_c[:, 2].tolist()
+    h1 = abs((z[0] + z[1]) / 2 if len(z) == 2 else float(np.mean(rear_tips_c[:, 2])))  # (np.mean's value)
     return h1 - h2
 
 

@@ -74,13 +74,14 @@ def tip_drift(p: list[float], q: list[float]) -> float:
 
 
 @numba.njit(cache=True)
-def _contact_pass(ncon, geom, efc_address, dim, friction, frame, efc_force, ground, tip_of, side_of,
-                  sel, rg, f, side, fr):  # pragma: no cover
+def _contact_pass(ncon, geom, efc_address, dim, friction, frame, pos, efc_force, ground, tip_of, side_of,
+                  sel, rg, f, side, fr, xy):  # pragma: no cover
     """One pass over the ``ncon`` contacts (compiled: the per-tick contact work, no Python per contact).
 
     Writes the robot-ground contacts' indices into ``data.contact`` (``sel``), their robot geoms
     (``rg``), the crawler side of each (``side``, from ``side_of``; -1 not a crawler surface),
-    their contact frames (``fr``, rows of 9) and their contact-frame forces (normal, two
+    their contact frames (``fr``, rows of 9), their ground points' x, y (``xy``, from ``pos``)
+    and their contact-frame forces (normal, two
     tangential) (``f``, N): pyramidal cones
     of dimension 3 (this model's), the normal force the sum of the four pyramid-edge forces
     ((e0 + e1) + e2) + e3, a tangential one mu x (f+ - f-), as ``mj_contactForce`` gives them.
@@ -102,6 +103,7 @@ def _contact_pass(ncon, geom, efc_address, dim, friction, frame, efc_force, grou
         side[k] = side_of[r]
         for i in range(9):
             fr[k, i] = frame[j, i]
+        xy[k, 0], xy[k, 1] = pos[j, 0], pos[j, 1]
         if dim[j] != 3:
             dim3 = False
         a = efc_address[j]
@@ -311,8 +313,8 @@ class OctopusTask(TaskBase):
         self._ctrl_view = data.ctrl if np.array_equal(self.act, np.arange(model.nu)) else None
         self._side_of = np.full(model.ngeom, -1)
         self._side_of[self.surf_id] = self.surf_side
+        self._pa, self._pb = np.empty(model.nu), np.empty(model.nu)  # |actuator force|, |velocity| (power)
         self._weight = float(model.body_subtreemass[self.chassis]) * float(-model.opt.gravity[2])
-        self._loaded_t = np.full(model.ngeom, -np.inf)
         self._footprint = Footprint(SUPPORT_MEMORY)
         self._behind: tuple[float, ...] | None = None  # tip-back run: (t, pitch, COG, contact) at its start
         self._rear_prev = (math.nan, False)  # the last stored row's rearmost loaded contact (m), COG behind it
@@ -452,7 +454,7 @@ class OctopusTask(TaskBase):
         tick's traction (:meth:`_traction`, updated in :meth:`apply`).
         """
         d = self.data
-        n, t = d.ncon, float(d.time)
+        t = float(d.time)
         nan = float("nan")
         sel, rg, f, _ = self._contacts()
         power = self._track_power()
@@ -462,12 +464,11 @@ class OctopusTask(TaskBase):
         fn = f[:, 0]
         total, on_crawlers = self.normal_load()
         loaded = fn > SUPPORT_LOAD
-        self._loaded_t[rg[loaded]] = t
-        v = d.qvel[:6]
+        v = d.qvel[:6].tolist()  # Python floats: x ** 2 is numpy's scalar power (libm's pow) too
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
                  abs(total - self._weight) < QS_LOAD * self._weight)
-        pts = d.contact.pos[:n][sel, :2]
+        pts = self._buf[7][:len(sel)]  # the pass's ground points (x, y)
         cog = d.subtree_com[self.chassis, :2]
         # the footprint: the ground points of the contacts that carried > SUPPORT_LOAD N on the
         # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
@@ -550,12 +551,12 @@ class OctopusTask(TaskBase):
         return float(fn.sum()), float(fn[self._buf[3][:len(sel)] >= 0].sum())  # the pass's crawler sides
 
     def _buffers(self, n: int) -> tuple[np.ndarray, ...]:
-        """Room for ``n`` contacts: indices, robot geoms, forces, sides, frames, and the frames'
-        two tangential rows as (n, 3) views (what numpy's matmul then takes)."""
+        """Room for ``n`` contacts: indices, robot geoms, forces, sides, frames, the frames' two
+        tangential rows as (n, 3) views (what numpy's matmul then takes), ground points (x, y)."""
         fr = np.empty((n, 9))
         f3 = fr.reshape(-1, 3, 3)
         return (np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3)), np.empty(n, np.int64), fr,
-                f3[:, 1], f3[:, 2])
+                f3[:, 1], f3[:, 2], np.empty((n, 2)))
 
     def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
         """The contacts now, computed once per instant (apply, the stored row and the last row
@@ -567,10 +568,10 @@ class OctopusTask(TaskBase):
         n = d.ncon
         if n > len(self._buf[0]):
             self._buf = self._buffers(2 * n)
-        sel, rg, f, side, fr = self._buf[:5]
+        sel, rg, f, side, fr, _, _, xy = self._buf
         c = d.contact
-        k, bits, dim3 = _contact_pass(n, c.geom, c.efc_address, c.dim, c.friction, c.frame, d.efc_force,
-                                      self.ground, self._tip_of, self._side_of, sel, rg, f, side, fr)
+        k, bits, dim3 = _contact_pass(n, c.geom, c.efc_address, c.dim, c.friction, c.frame, c.pos, d.efc_force,
+                                      self.ground, self._tip_of, self._side_of, sel, rg, f, side, fr, xy)
         self._k = k
         sel, rg, f = sel[:k], rg[:k], f[:k]
         if k and not (self._pyramid and dim3):  # other cones or dimensions: MuJoCo's own decoding
@@ -658,8 +659,10 @@ class OctopusTask(TaskBase):
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
         force x the commanded track speed)."""
-        d = self.data
-        return float(np.dot(np.abs(d.actuator_force), np.abs(d.actuator_velocity))) + self._track_power()
+        d, a, b = self.data, self._pa, self._pb
+        np.abs(d.actuator_force, out=a)
+        np.abs(d.actuator_velocity, out=b)
+        return float(np.dot(a, b)) + self._track_power()
 
     def metrics(self, log) -> dict[str, float]:
         """Extremes of attitude; the static margin (load-filtered polygon) at quasi-static

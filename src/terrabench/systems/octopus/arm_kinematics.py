@@ -29,24 +29,27 @@ def _tips(q, sx, sy, mx, my, z0, l1, l2, out):  # pragma: no cover
         out[a, 2] = z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)
 
 
-def _fk(q: np.ndarray, sx: np.ndarray, sy: np.ndarray, cfg: RobotConfig) -> np.ndarray:
+def fk_constants(cfg: RobotConfig) -> tuple[float, float, float, float, float]:
+    """(mx, my, z0 = mz + 0.04, l1, l2) of :func:`_tips`, once per controller (:func:`fk_all`)."""
     mx, my, mz = cfg.arm_mount
-    out = np.empty((len(sx), 3))
-    _tips(q, sx, sy, float(mx), float(my), mz + 0.04, float(cfg.l1), float(cfg.l2), out)
-    return out
+    return float(mx), float(my), mz + 0.04, float(cfg.l1), float(cfg.l2)
 
 
 def fk(q: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Tip of arm ``k`` in the robot frame {R} (m) for joints (swing, boom, elbow) (rad); the same
     numbers, bit for bit, as that arm's row of :func:`fk_all`."""
     sx, sy = CORNER[k]
-    return _fk(np.asarray(q, float).reshape(1, 3), np.array([float(sx)]), np.array([float(sy)]), cfg)[0]
+    out = np.empty((1, 3))
+    _tips(np.asarray(q, float).reshape(1, 3), np.array([float(sx)]), np.array([float(sy)]), *fk_constants(cfg), out)
+    return out[0]
 
 
-def fk_all(q_arm: np.ndarray, cfg: RobotConfig) -> np.ndarray:
+def fk_all(q_arm: np.ndarray, cfg: RobotConfig, consts: tuple[float, ...] | None = None) -> np.ndarray:
     """(4, 3) tips of the four arms (LF, RF, LR, RR) in {R} (m): :func:`fk` for all four in one
-    compiled pass."""
-    return _fk(np.asarray(q_arm, float).reshape(4, 3), _SX, _SY, cfg)
+    compiled pass; ``consts`` = :func:`fk_constants` of ``cfg`` where the caller keeps them."""
+    out = np.empty((4, 3))
+    _tips(np.asarray(q_arm, float).reshape(4, 3), _SX, _SY, *(consts or fk_constants(cfg)), out)
+    return out
 
 
 def ik_constants(cfg: RobotConfig, k: str) -> tuple[float, ...]:

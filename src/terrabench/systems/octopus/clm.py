@@ -66,6 +66,7 @@ class CLMController(MachineController):
         self.cmd = Command()
         self.targets = {k: self._target(k) for k in ARMS}
         self._ikc = [ak.ik_constants(robot, k) for k in ARMS]  # each arm's IK constants (ak.ik_f)
+        self._fkc = ak.fk_constants(robot)
         self._tgt_q = {k: ak.ik(self.targets[k], robot, k) for k in ARMS}  # the transfer targets' joints
         self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
         self.tau_ref = np.zeros(4)
@@ -560,7 +561,7 @@ class CLMController(MachineController):
         if not self.started:
             self._start(obs)
         # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
-        self.tip_r = ak.fk_all(obs.q_arm, self.robot)
+        self.tip_r = ak.fk_all(obs.q_arm, self.robot, self._fkc)
         self._tip_c, self._att = None, (obs.roll, obs.pitch)  # {C}: on first use this tick (tip_c)
         self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].tolist()
         self.heading += obs.yaw_rate * self.dt

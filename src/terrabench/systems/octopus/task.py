@@ -381,9 +381,8 @@ class OctopusTask(TaskBase):
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
         pr, lay = self.cfg.protocol, self.layout
         roll, pitch = self.attitude()
-        over = turned_over(roll, pitch, pr.turn_over, TURN_OVER_PITCH)
-        if over is not None:
-            return over
+        if abs(roll) > pr.turn_over or abs(pitch) > TURN_OVER_PITCH:  # (turned_over's test, its reason)
+            return turned_over(roll, pitch, pr.turn_over, TURN_OVER_PITCH)
         if self._tipped is not None:
             return "tipped_back", self._tipped["reason"]
         s, lat, z = self._position()

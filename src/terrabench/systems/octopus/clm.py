@@ -445,6 +445,12 @@ class CLMController(MachineController):
             # strut as the nose rises)
             beyond = beyond or (front and tz >= tip_z - cfg.climb_press - 1e-6)
             if beyond and (not front or self.over):
+                # the lift-clear pose is set once; _lead then holds the command within max_lead of
+                # the encoders and the lifted arm is not revisited, so its boom stays where the first
+                # clamp left it: as the body moves the arm presses instead (terrace2-front seed 1: LF
+                # at 275 of 300 N m 3 s after its lift, the front on its tip, the crawlers in the air
+                # for 2.4 s). Re-issuing the pose every tick keeps the crawlers loaded but the nose
+                # then rises to guard_pitch and the terraces fail 0/5 (docs/octopus.md, "Load share")
                 self.lifted[i] = True
                 self.contact[i] = False
                 q = obs.q_arm[i]

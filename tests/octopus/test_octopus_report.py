@@ -26,3 +26,32 @@ def test_report_from_a_store(tmp_path: Path):
     assert text.count("<img src='modes_step-400_clm_") == 2  # one mode timeline per CLM variant
     assert "clm.press=0.01" in text                   # the --set variant is its own labelled line
     assert (tmp_path / "out" / "tasks.csv").read_text().count("\n") == 4
+
+
+def test_climb_share_tells_a_dynamic_drop_from_a_held_run():
+    """The two readings of a zero crawler share: one dynamic row (the nose dropping onto its
+    crawlers) leaves the quasi-static minimum and a 0.1 s free run; a quasi-static run of
+    crawler-free rows (the robot on its arm tips) gives both a zero and the run's length."""
+    import numpy as np
+
+    from terrabench.systems.octopus import clm
+    from terrabench.systems.octopus.report import climb_share
+
+    t = np.round(np.arange(0.0, 10.0, 0.1), 10)
+    mode = np.where((t >= 2.0) & (t < 8.0), clm.CLIMB, clm.WALK).astype(float)
+    share = np.full(len(t), 0.7)
+    quasi = np.ones(len(t))
+    drop = np.flatnonzero(np.isclose(t, 3.0))
+    share[drop], quasi[drop] = 0.0, 0.0  # one dynamic row
+    c = climb_share({"t": t, "mode": mode, "track_share": share, "quasi": quasi}, "clm")
+    assert c["share_min_quasi"] == 0.7 and c["crawler_free_s"] == pytest.approx(0.1)
+    held = (t >= 5.0) & (t < 6.5)
+    share[held] = 0.01  # 1.5 s held on the arms, quasi-static
+    c = climb_share({"t": t, "mode": mode, "track_share": share, "quasi": quasi}, "clm")
+    assert c["share_min_quasi"] == pytest.approx(0.01) and c["crawler_free_s"] == pytest.approx(1.5)
+    share[(t >= 9.0)] = 0.0  # walking rows do not count
+    assert climb_share({"t": t, "mode": mode, "track_share": share, "quasi": quasi}, "clm")["crawler_free_s"] \
+        == pytest.approx(1.5)
+    # no climb rows: NaN
+    assert np.isnan(climb_share({"t": t, "mode": np.zeros(len(t)), "track_share": share, "quasi": quasi},
+                                "clm")["share_min_quasi"])

@@ -415,7 +415,7 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
                        html.escape("t = " + ", ".join(f"{t:.1f}" for t in times)
                                    + " s: walking, step detected (climb starts), mid-lift, release, the end"),
                        system, spec, times, width=320, height=240, track="chassis")
-    _clips(page, system, rows)
+    _clips(page, system, rows, {v.id for v in variants if v.is_default})
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
     return page.finish()
@@ -426,15 +426,17 @@ CLIP_TASKS = (("step-400", "clm"), ("step-400", "ccm"), ("terrace2-front", "clm"
               ("block-500", "clm"))
 
 
-def _clips(page: Any, system: Any, rows: list[dict[str, Any]]) -> None:
+def _clips(page: Any, system: Any, rows: list[dict[str, Any]], default_ids: set[str] | None = None) -> None:
     """A clip of the first stored seed of each paper task (:data:`CLIP_TASKS`), re-run from its
     stored config: the whole trial, a frame every 0.2 simulated s at 25 fps (5x real time), from
-    the task's own camera (the side camera on step tasks)."""
+    the task's own camera (the side camera on step tasks). Of a method run under several
+    settings, the default-settings run (``default_ids``: the default variants' ids) is shown."""
     from terrabench.benchmark.trial import TrialSpec
 
     shown = False
     for inst, meth in CLIP_TASKS:
         rs = sorted((r for r in rows if r["instance"] == inst and r["method"] == meth), key=lambda r: r["seed"])
+        rs = [r for r in rs if r.get("variant") in (default_ids or ())] or rs
         if not rs:
             continue
         if not shown:

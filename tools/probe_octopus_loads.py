@@ -31,9 +31,7 @@ def main() -> None:
     specs = SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
                         overrides={"protocol.timeout": times[-1] + 1.0})
     spec = next(s for s in specs if s.seed == a.seed)
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
+    _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()
     m, d = ep.model, ep.data

@@ -26,9 +26,7 @@ def main() -> None:
     ap.add_argument("instance")
     a = ap.parse_args()
     spec = SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=1)[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
+    _, task, ctl = SYSTEM.trial_parts(spec)
     power: dict[int, dict[str, float]] = collections.defaultdict(lambda: collections.defaultdict(float))
     ticks: collections.Counter[int] = collections.Counter()
     vx: dict[int, float] = collections.defaultdict(float)

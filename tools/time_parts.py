@@ -21,10 +21,10 @@ from terrabench.sim.episode import run_episode
 PARTS = ("observe", "check", "row", "apply", "power")
 
 
-def one_pass(system, spec, cfg) -> tuple[dict[str, float], int]:
+def one_pass(system, spec) -> tuple[dict[str, float], int]:
     acc = {p: 0.0 for p in (*PARTS, "controller", "mj_step")}
     clock = time.process_time
-    task = system.make_task(spec, cfg)
+    _, task, ctrl = system.trial_parts(spec)
     for name in PARTS:
         fn = getattr(task, name)
 
@@ -34,7 +34,6 @@ def one_pass(system, spec, cfg) -> tuple[dict[str, float], int]:
             acc[_name] += clock() - t0
             return r
         setattr(task, name, wrapped)
-    ctrl = system.make_controller(spec, cfg, task)
 
     def timed_ctrl(obs):
         t0 = clock()
@@ -69,10 +68,9 @@ def main() -> None:
     overrides = {system.timeout_key: a.seconds} if system.timeout_key else {}
     spec = system.plan(methods=[a.method or system.default_methods()[0]], instances=[a.instance], seeds=1,
                        overrides=overrides)[0]
-    cfg = system.load_config(spec.config)
     best: dict[str, float] = {}
     for _ in range(a.repeats):
-        acc, ticks = one_pass(system, spec, cfg)
+        acc, ticks = one_pass(system, spec)
         for k, v in acc.items():
             best[k] = min(best.get(k, float("inf")), v)
     us = {k: 1e6 * v / ticks for k, v in best.items()}

@@ -327,12 +327,18 @@ class System:
     def make_controller(self, spec: TrialSpec, cfg: Any, task: Task) -> Callable[[Any], Any]:
         raise NotImplementedError
 
+    def trial_parts(self, spec: TrialSpec) -> tuple[Any, Task, Any]:
+        """(resolved config, task, controller) of one spec: what :meth:`run_trial` runs, for a
+        study or probe that steps the episode itself (``Episode(task)``)."""
+        cfg = self.load_config(spec.config)
+        task = self.make_task(spec, cfg)
+        return cfg, task, self.make_controller(spec, cfg, task)
+
     def run_trial(self, spec: TrialSpec, *, on_step: OnStep | None = None) -> TrialResult:
         """Run one spec through the shared episode loop; physics trouble is a status, not a raise."""
         t0 = time.perf_counter()
-        cfg = self.load_config(spec.config)
-        task = self.make_task(spec, cfg)
-        result = run_task(task, self.make_controller(spec, cfg, task), on_step=on_step)
+        _, task, controller = self.trial_parts(spec)
+        result = run_task(task, controller, on_step=on_step)
         result.wall_time = time.perf_counter() - t0
         return result
 

@@ -49,9 +49,7 @@ def probe_walk(seconds: float = 25.0, overrides: dict | None = None, *, instance
 
     ov = {"protocol.timeout": seconds, "scene.start_distance": start_distance, **(overrides or {})}
     spec = SYSTEM.plan(methods=["clm"], instances=[instance], seeds=1, overrides=ov)[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
+    cfg, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()
     m, d = ep.model, ep.data

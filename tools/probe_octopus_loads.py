@@ -50,8 +50,8 @@ def main() -> None:
             latches = {k: getattr(ctl, k) for k in ("over", "up") if hasattr(ctl, k)}
             if hasattr(ctl, "lifted"):
                 latches["lifted"] = np.asarray(ctl.lifted).tolist()
-            print(f"t {obs.t:.2f} state {ctl.machine.state} pitch {obs.pitch:.2f} rad, normal load {sum(load.values()):.0f} N"
-                  f" {latches}")
+            print(f"t {obs.t:.2f} state {ctl.machine.state} pitch {obs.pitch:.2f} rad, "
+                  f"normal load {sum(load.values()):.0f} N {latches}")
             for name, v in sorted(load.items(), key=lambda kv: -kv[1]):
                 if v > 1.0:
                     print(f"    {name:24s} {v:7.1f} N (vertical {vert[name]:7.1f} N) at {where[name]}")

@@ -211,7 +211,8 @@ def test_compiled_margin_is_the_python_margin_bitwise():
         cases.append((p, c))
     for p, c in cases:
         want, got = _margin_python(p, c), stability_margin(p, c)
-        assert (math.isnan(want) and math.isnan(got)) or (want == got and math.copysign(1, want) == math.copysign(1, got))
+        same = want == got and math.copysign(1, want) == math.copysign(1, got)
+        assert (math.isnan(want) and math.isnan(got)) or same
 
 
 def test_python_float_shortcuts_are_numpys_values():

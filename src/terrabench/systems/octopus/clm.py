@@ -524,7 +524,7 @@ class CLMController(MachineController):
                     if (front and obs.pitch > cfg.pitch_cap) or (not front and obs.pitch < -cfg.pitch_cap):
                         continue
                     self.lift_tgt[i, 2] -= cfg.lift_dz if front else cfg.lift_dz * cfg.lift_rear
-            for i, k in enumerate(ARMS):
+            for i in range(len(ARMS)):
                 c.arm[i] = ak.ik_f(*self.lift_tgt[i].tolist(), self._ikc[i])
             for f in range(4):
                 # eq. 29 (A' - dF), the command kept within flip_lead of the measured angle:

@@ -102,6 +102,9 @@ def test_perf_reports_both_throughputs_and_their_ratio():
     assert "loop/raw" in r.text and "B-05" in r.text
     r = invoke("perf", "mrs-cwc", "--seconds", "-1")
     assert r.exit_code == 2 and "seconds must be a positive" in r.text
+    r = invoke("perf", "mrs-cwc", "--terrains", "B-05", "--seconds", "0.5", "--repeats", "1", "--parts")
+    assert r.exit_code == 0, r.output
+    assert "where the loop's time goes" in r.text and "controller" in r.text and "mj_step" in r.text
 
 
 def test_generate_then_stats_round_trips_and_a_bad_csv_is_refused(tmp_path):

@@ -379,16 +379,21 @@ def perf(
     seconds: float = typer.Option(30.0, help="simulated seconds per measurement (systems with a time limit)"),
     repeats: int = typer.Option(2, help="loop and raw passes alternate this often; each keeps its fastest"),
     set_: list[str] = typer.Option([], "--set", help="config override KEY=VALUE (repeatable): time a variant"),
+    parts: bool = typer.Option(False, "--parts", help="also time each part of the loop (controller, the task's "
+                               "observe/check/row/apply/power, mj_step): us per control tick"),
 ) -> None:
     """The episode loop vs raw mj_step replaying the same commands: steps/s, RTF, ratio (CPU time)."""
     from terrabench.catalog import system as get_system
     from terrabench.config import parse_overrides
-    from terrabench.sim.perf import measure, perf_table
+    from terrabench.sim import perf as pf
 
     sysobj = get_system(system)
-    rows = measure(sysobj, method, _split(terrains, "--terrains", _valid_instances(sysobj)), seconds, repeats,
-                   parse_overrides(set_))
-    console.print(perf_table(system, rows))
+    chosen = _split(terrains, "--terrains", _valid_instances(sysobj))
+    overrides = parse_overrides(set_)
+    rows = pf.measure(sysobj, method, chosen, seconds, repeats, overrides)
+    console.print(pf.perf_table(system, rows))
+    if parts:
+        console.print(pf.parts_table(system, pf.parts(sysobj, method, chosen, seconds, repeats, overrides)))
 
 @terrain_app.command("stats")
 @friendly

@@ -34,3 +34,19 @@ def test_measure_times_a_config_variant_and_refuses_bad_repeats():
         measure(SYSTEM, "cwc-tdt", ["B-05"], 0.5, repeats=0)
     with pytest.raises(ValueError, match="chain.wheel_shape.*cube.*valid: cylinder, sphere"):
         measure(SYSTEM, "cwc-tdt", ["B-05"], 0.5, overrides={"chain.wheel_shape": "cube"})
+
+
+def test_parts_time_every_call_of_the_loop():
+    """The parts table: every part timed (>= 0), mj_step the episode's own engine time and the
+    largest part, the parts and the rest adding up to the loop, bad input refused as measure's."""
+    from terrabench.sim.perf import PART_COLUMNS, parts
+
+    (row,) = parts(SYSTEM, "cwc-tdt", ["B-05"], 0.5, repeats=1)
+    assert set(PART_COLUMNS) <= set(row) and row["ticks"] >= 10
+    assert all(row[c] >= 0.0 for c in PART_COLUMNS if c != "rest") and row["mj_step"] > 0
+    assert row["mj_step"] == max(row[c] for c in PART_COLUMNS if c not in ("loop", "outside"))
+    total = sum(row[c] for c in ("mj_step", "controller", "observe", "check", "row", "apply", "power", "rest"))
+    assert total == pytest.approx(row["loop"], rel=1e-9)
+    assert row["outside"] == pytest.approx(row["loop"] - row["mj_step"] - row["apply"], rel=1e-9)
+    with pytest.raises(ValueError, match="seconds"):
+        parts(SYSTEM, "cwc-tdt", ["B-05"], 0.0)

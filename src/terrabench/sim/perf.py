@@ -22,6 +22,7 @@ episode adds nothing) and the share of the loop's wall time spent inside ``mj_st
 from __future__ import annotations
 
 import copy
+import math
 import time
 from typing import TYPE_CHECKING, Any, Sequence
 
@@ -38,10 +39,10 @@ if TYPE_CHECKING:
     from terrabench.systems.base import System
 
 
-def measure(system: System, method: str | None, instances: Sequence[str] | None, seconds: float,
-            repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict[str, Any]]:
-    """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds), with
-    config ``overrides`` (dotted keys, as ``--set``)."""
+def _specs(system: System, method: str | None, instances: Sequence[str] | None, seconds: float,
+           repeats: int, overrides: dict[str, Any] | None) -> list[TrialSpec]:
+    """The timed specs: seed 0 of each instance (default: the system's perf sample), the episode
+    cut at ``seconds`` simulated seconds, with config ``overrides``; the arguments checked first."""
     if not (isinstance(seconds, (int, float)) and 0 < seconds < float("inf")):
         raise ValueError(f"--seconds must be a positive finite number, got {seconds!r}")
     if not (isinstance(repeats, int) and repeats >= 1):
@@ -51,8 +52,15 @@ def measure(system: System, method: str | None, instances: Sequence[str] | None,
     overrides = dict(overrides or {})
     if system.timeout_key:
         overrides[system.timeout_key] = seconds
-    specs = system.plan(methods=[method or system.default_methods()[0]], instances=chosen, seeds=1,
-                        overrides=overrides)
+    return system.plan(methods=[method or system.default_methods()[0]], instances=chosen, seeds=1,
+                       overrides=overrides)
+
+
+def measure(system: System, method: str | None, instances: Sequence[str] | None, seconds: float,
+            repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict[str, Any]]:
+    """One row per instance (seed 0, the episode cut at ``seconds`` simulated seconds), with
+    config ``overrides`` (dotted keys, as ``--set``)."""
+    specs = _specs(system, method, instances, seconds, repeats, overrides)
     rows = []
     for spec in specs:
         cfg = system.load_config(spec.config)
@@ -102,6 +110,76 @@ def _replay(task: EpisodeTask, commands: list[Any]) -> float:
                 hook(m, d)
                 mujoco.mj_step(m, d)
     return time.process_time() - t0
+
+
+#: the task's per-tick calls the parts table times (the episode contract's, ``EpisodeTask``)
+PARTS = ("observe", "check", "row", "apply", "power")
+#: the parts table's columns after the instance: us per control tick
+PART_COLUMNS = ("loop", "mj_step", "controller", *PARTS, "rest", "outside")
+
+
+def parts(system: System, method: str | None, instances: Sequence[str] | None, seconds: float,
+          repeats: int = 2, overrides: dict[str, Any] | None = None) -> list[dict[str, Any]]:
+    """Where the loop's time goes: one row per instance (the specs of :func:`measure`) with the
+    wall-clock us per control tick of the whole loop, of ``mj_step`` (the episode's own engine
+    timer), of the controller call and of each task call of :data:`PARTS`; ``rest`` the shared
+    loop (and the timers, ~0.1-0.3 us a part), ``outside`` everything but ``mj_step`` and
+    ``apply`` (what perf's raw replay does not run). Each figure is its fastest of ``repeats``
+    episodes."""
+    rows = []
+    for spec in _specs(system, method, instances, seconds, repeats, overrides):
+        best: dict[str, float] = {}
+        for _ in range(repeats):
+            us = _timed_parts(system, spec)
+            best = {k: min(best.get(k, math.inf), v) for k, v in us.items()}
+        best["rest"] = best["loop"] - sum(best[k] for k in ("mj_step", "controller", *PARTS))
+        best["outside"] = best["loop"] - best["mj_step"] - best["apply"]
+        rows.append({"instance": spec.instance, "method": spec.method, **best})
+    return rows
+
+
+def _timed_parts(system: System, spec: TrialSpec) -> dict[str, float]:
+    cfg = system.load_config(spec.config)
+    task = system.make_task(spec, cfg)
+    try:
+        controller = system.make_controller(spec, cfg, task)
+    except NotImplementedError:
+        raise ValueError(f"system {system.id!r} does not run through the MuJoCo episode loop; "
+                         f"perf times systems that do (see `terrabench list`)") from None
+    acc = dict.fromkeys(("controller", *PARTS), 0.0)
+    clock = time.perf_counter
+
+    def timed(name: str, fn: Any) -> Any:
+        def call(*args: Any) -> Any:
+            t0 = clock()
+            out = fn(*args)
+            acc[name] += clock() - t0
+            return out
+        return call
+
+    for name in PARTS:  # instance attributes shadow the methods the loop looks up
+        setattr(task, name, timed(name, getattr(task, name)))
+    log = run_episode(task, timed("controller", controller))
+    ticks = max(log.steps, 1)
+    us = {k: 1e6 * v / ticks for k, v in acc.items()}
+    us["loop"], us["mj_step"] = 1e6 * log.timing["loop"] / ticks, 1e6 * log.timing["engine"] / ticks
+    us["ticks"] = float(ticks)
+    return us
+
+
+def parts_table(system_id: str, rows: list[dict[str, Any]]) -> Table:
+    from rich.table import Table
+
+    t = Table(title=f"{system_id}: where the loop's time goes, us per control tick (wall clock, each part's "
+                    f"fastest of the repeats)")
+    t.add_column("part")
+    for r in rows:
+        t.add_column(r["instance"], justify="right")
+    notes = {"rest": "rest (the shared loop, timers)", "outside": "outside mj_step + apply (not in raw)"}
+    for c in PART_COLUMNS:
+        t.add_row(notes.get(c, c), *(f"{r[c]:.1f}" for r in rows))
+    t.add_row("control ticks", *(f"{r['ticks']:.0f}" for r in rows))
+    return t
 
 
 def perf_table(system_id: str, rows: list[dict[str, Any]]) -> Table:

@@ -55,3 +55,17 @@ def test_climb_share_tells_a_dynamic_drop_from_a_held_run():
     # no climb rows: NaN
     assert np.isnan(climb_share({"t": t, "mode": np.zeros(len(t)), "track_share": share, "quasi": quasi},
                                 "clm")["share_min_quasi"])
+
+
+def test_clip_events_read_the_stored_controller_events():
+    """--at's events for OCTOPUS: CLM's climb / over / release / walk_on and CCM's press / abort
+    from the stored transitions (the first of each), the tip-back crossing from the info."""
+    events = [[0.0, "LF.support", "LF.transfer", "gait turn"], [20.7, "walk", "climb", "up-step"],
+              [29.5, "climb", "climb", "front pulley 0.030 m over the top: front arms unload"],
+              [36.8, "climb", "release", "H > H_EST"], [38.9, "release", "walk", "released"],
+              [50.0, "walk", "climb", "a second climb"]]
+    ev = SYSTEM.clip_events({"info": {"events": events}, "metrics": {"sim_time": 60.0}}, {})
+    assert ev == {"start": 0.0, "end": 60.0, "climb": 20.7, "over": 29.5, "release": 36.8, "walk_on": 38.9}
+    ccm = [[6.2, "approach", "press", "riser"], [29.2, "push", "abort", "pitch"]]
+    ev = SYSTEM.clip_events({"info": {"events": ccm, "tip_back": {"t": 29.0}}, "metrics": {"sim_time": 29.2}}, {})
+    assert ev == {"start": 0.0, "end": 29.2, "press": 6.2, "abort": 29.2, "tipped_back": 29.0}

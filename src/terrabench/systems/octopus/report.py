@@ -255,6 +255,8 @@ def _series_figure(plt, ts: dict[str, np.ndarray], r: dict[str, Any], title: str
                    label="all contacts, dynamic instants")
     else:
         ax[1].plot(t, ts["margin"], label="margin")
+    if "margin_sensed" in ts:
+        ax[1].plot(t, ts["margin_sensed"], lw=0.8, color="tab:green", label="sensed margin (FK tips + tracks, IMU)")
     ax[1].axhline(0, color="k", lw=0.5)
     ax[1].set_ylabel("margin m")
     ax[1].legend(loc="lower left", fontsize="small")
@@ -262,6 +264,8 @@ def _series_figure(plt, ts: dict[str, np.ndarray], r: dict[str, Any], title: str
     ax[2].plot(t, ts["z"], label="chassis z")
     if "track_share" in ts:
         ax[2].plot(t, ts["track_share"], label="track share of load", lw=0.8)
+    if "tip_slip" in ts:
+        ax[2].plot(t, ts["tip_slip"], label="tip slip in its support phase m", lw=0.8)
     ax[2].set_ylabel("m, -")
     ax[2].legend(loc="upper left", fontsize="small")
     arms = ("LF", "RF", "LR", "RR")
@@ -415,37 +419,69 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
                        html.escape("t = " + ", ".join(f"{t:.1f}" for t in times)
                                    + " s: walking, step detected (climb starts), mid-lift, release, the end"),
                        system, spec, times, width=320, height=240, track="chassis")
-    _clips(page, system, rows, {v.id for v in variants if v.is_default})
+    _clips(page, system, rows, {v.id for v in variants if v.is_default}, store)
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
     return page.finish()
 
 
 #: the paper's tasks that get a clip, with the mode shown (CLM everywhere; CCM where it fails the paper's way)
+#: the cut clips: (task, method, from event, to event) of :meth:`OctopusSystem.clip_events`
+CLIP_CUTS = (("step-400", "clm", "climb", "walk_on"), ("terrace2-front", "clm", "climb", "walk_on"),
+             ("step-400", "ccm", "press", "end"))
 CLIP_TASKS = (("step-400", "clm"), ("step-400", "ccm"), ("terrace2-front", "clm"), ("terrace2-side", "clm"),
               ("block-500", "clm"))
 
 
-def _clips(page: Any, system: Any, rows: list[dict[str, Any]], default_ids: set[str] | None = None) -> None:
+def _first_default(rows, inst: str, meth: str, default_ids: set[str] | None) -> dict[str, Any] | None:
+    """The first stored seed of ``meth`` on ``inst``, of its default-settings run where there is one."""
+    rs = sorted((r for r in rows if r["instance"] == inst and r["method"] == meth), key=lambda r: r["seed"])
+    rs = [r for r in rs if r.get("variant") in (default_ids or ())] or rs
+    return rs[0] if rs else None
+
+
+def _clips(page: Any, system: Any, rows: list[dict[str, Any]], default_ids: set[str] | None = None,
+           store: Any = None) -> None:
     """A clip of the first stored seed of each paper task (:data:`CLIP_TASKS`), re-run from its
     stored config: the whole trial, a frame every 0.2 simulated s at 25 fps (5x real time), from
     the task's own camera (the side camera on step tasks). Of a method run under several
-    settings, the default-settings run (``default_ids``: the default variants' ids) is shown."""
+    settings, the default-settings run (``default_ids``: the default variants' ids) is shown.
+    Then (with ``store``) the climbs cut at their events (:data:`CLIP_CUTS`, the system's
+    ``clip_events``; ``terrabench render octopus --at climb`` cuts the same) at 2.5x real time."""
     from terrabench.benchmark.trial import TrialSpec
 
     shown = False
     for inst, meth in CLIP_TASKS:
-        rs = sorted((r for r in rows if r["instance"] == inst and r["method"] == meth), key=lambda r: r["seed"])
-        rs = [r for r in rs if r.get("variant") in (default_ids or ())] or rs
-        if not rs:
+        r = _first_default(rows, inst, meth, default_ids)
+        if r is None:
             continue
         if not shown:
             page.h2("Clips of the paper's tasks (5x real time)")
             shown = True
-        r = rs[0]
         spec = TrialSpec("octopus", r["scenario"], meth, inst, r["seed"], r["config"])
         span = float(r["metrics"].get("sim_time", 0.0) or 0.0) or 90.0
         page.clip(f"clip_{inst}_{meth}.mp4",
                   html.escape(f"{meth.upper()} on {inst} (seed {r['seed']}, stored status {r['status']}), "
                               f"0-{span:.0f} s"),
                   system, spec, span + 0.5, every=10, width=480, height=360, track="chassis")
+    if store is None:
+        return
+    cut = False
+    for inst, meth, a, b in CLIP_CUTS:
+        r = _first_default(rows, inst, meth, default_ids)
+        if r is None:
+            continue
+        ev = system.clip_events(r, store.timeseries(r["key"]))
+        if a not in ev or b not in ev:
+            continue
+        if not cut:
+            page.h2("The climbs cut at their events (2.5x real time)")
+            cut = True
+        t0, t1 = max(0.0, ev[a] - 2.0), min(ev["end"], ev[b] + 2.0)
+        spec = TrialSpec("octopus", r["scenario"], meth, inst, r["seed"], r["config"])
+        page.clip(f"cut_{inst}_{meth}.mp4",
+                  html.escape(f"{meth.upper()} on {inst} (seed {r['seed']}, {r['status']}): {t0:.1f}-{t1:.1f} s, "
+                              f"from 2 s before '{a}' ({ev[a]:.1f} s) to 2 s after '{b}' ({ev[b]:.1f} s); events "
+                              + ", ".join(f"{k} {v:.1f} s" for k, v in sorted(ev.items(), key=lambda kv: kv[1])
+                                          if k not in ("start", "end"))),
+                  system, spec, t1 - t0, every=5, start=t0, width=640, height=480, track="chassis")

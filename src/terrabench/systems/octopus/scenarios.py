@@ -57,6 +57,29 @@ class OctopusSystem(System):
     def methods(self) -> dict[str, MethodInfo]:
         return dict(METHODS)
 
+    def clip_events(self, row: Any, series: Any) -> dict[str, float]:
+        """Besides start and end, read off the stored controller events: ``climb`` (CLM's first
+        walk -> climb, the climb of Fig. 9 starting), ``over`` (its front pulley over the top,
+        the front arms unloading), ``release`` (its first climb -> release), ``walk_on`` (back to
+        walking on the top); ``press`` and ``abort`` (CCM's first press at a riser and its
+        tip-back abort); ``tipped_back`` (the tip-back rule's crossing, from the trial's info)."""
+        ev = super().clip_events(row, series)
+        info = (row.get("info") or {}) if hasattr(row, "get") else {}
+        wanted = {"climb": lambda e: e[1] == "walk" and e[2] == "climb",
+                  "over": lambda e: e[1] == e[2] == "climb" and "over the top" in e[3],
+                  "release": lambda e: e[1] == "climb" and e[2] == "release",
+                  "walk_on": lambda e: e[1] == "release" and e[2] == "walk",
+                  "press": lambda e: e[2] == "press",
+                  "abort": lambda e: e[2] == "abort"}
+        for e in info.get("events") or ():
+            for name, match in wanted.items():
+                if name not in ev and len(e) >= 4 and match(e):
+                    ev[name] = float(e[0])
+        tb = info.get("tip_back")
+        if tb and "t" in tb:
+            ev["tipped_back"] = float(tb["t"])
+        return ev
+
     def default_methods(self) -> list[str]:
         return ["clm", "ccm"]
 

@@ -239,3 +239,58 @@ def test_the_mechanism_metrics_are_read_off_the_stored_series():
     assert share != share or 0.0 <= share <= 1.0   # NaN (no walking tick) or a share
     # standing on flat ground at the start, the robot's own (sensed) margin is positive
     assert m["margin_sensed_min_m"] > 0.0
+
+
+def _walking_clm():
+    from types import SimpleNamespace
+
+    from terrabench.systems.octopus.controller_config import CLMConfig
+
+    ctl = clm.CLMController(CLMConfig(), RobotConfig())
+    ctl.machine.go(0.0, clm.WALK, "test")
+    ctl.queue = []
+    obs = SimpleNamespace(t=10.0, q_arm=np.zeros((4, 3)), tau_elbow=np.zeros(4), pitch=0.0, roll=0.0)
+    return ctl, obs
+
+
+def test_the_arm_the_crawlers_wait_for_takes_the_next_gait_turn():
+    """Walking, the next transfer is the gait order's, unless a foothold has left its range: that
+    arm goes first (the crawlers wait for it) and the cycle goes on from it."""
+    ctl, obs = _walking_clm()
+    assert clm.GAIT_ORDER[0] == "RR"
+    ctl._transfer(obs)
+    assert ctl.phase["RR"] == 1 and ctl.next_gait == 1       # no foothold out: the gait order
+    ctl, obs = _walking_clm()
+    ctl.out_of_reach, ctl.out_arm = True, "LR"
+    ctl._transfer(obs)
+    assert ctl.phase["LR"] == 1 and sum(map(bool, ctl.phase.values())) == 1
+    assert clm.GAIT_ORDER[ctl.next_gait % 4] == "LF"          # then the arm after LR
+    assert ctl.machine.events[-1].reason == "out of range: its turn comes first"
+
+
+def test_an_arm_lifted_higher_glides_to_the_top_of_its_descent():
+    """After a blocked swing (extra lift) the lowering target first moves on the straight line from
+    the tip to the top of the descent over the transfer target, not in one jump."""
+    ctl, obs = _walking_clm()
+    k, i = "RR", clm.ARM_INDEX["RR"]
+    ctl.phase[k], ctl.extra_lift[i] = 2, ctl.cfg.extra_lift
+    tip = np.array([-0.5, -0.6, 0.9])
+    ctl.tip_r[i] = tip
+    ctl.phase_t[i] = ctl.cfg.phase_timeout + 1.0      # the swing is over: on to phase 3
+    ctl._transfer(obs)
+    assert ctl.phase[k] == 3 and ctl.glide[i] is not None
+    p0, p1, n = ctl.glide[i]
+    tx, ty, _ = ctl.targets[k]
+    assert p0 == pytest.approx(tip.tolist()) and p1[:2] == pytest.approx([tx, ty]) and p1[2] < tip[2] - 0.1
+    path = []
+    for _ in range(n):  # a servo that follows its command exactly
+        ctl.tip_r[i] = ak.fk(ctl.cmd.arm[i], ctl.robot, k)
+        ctl.prev_tip_z, ctl.tip_z = ctl.tip_z, ctl.tip_r[:, 2].tolist()
+        ctl._transfer(obs)
+        path.append(ak.fk(ctl.cmd.arm[i], ctl.robot, k))
+    assert ctl.phase[k] == 3                           # still lowering: no contact in the air
+    path = np.array(path)
+    d = np.asarray(p1) - np.asarray(p0)
+    off = np.linalg.norm(np.cross(path - np.asarray(p0), d / np.linalg.norm(d)), axis=1)
+    assert off.max() < 0.01                            # the commanded tips lie on the line
+    assert path[-1] == pytest.approx(list(p1), abs=0.01) and ctl.glide[i] is None

@@ -82,6 +82,10 @@ class CLMController(MachineController):
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = [False] * 4  # landed, pressing, not yet settled
+        self.land_z = [0.0] * 4  # a landing tip's height where it stopped (m)
+        self.land_why = ""  # the signal of the last landing: torque / blocked / tilted
+        self.glide: list = [None] * 4  # a lowering arm's line to the top of its descent (p0, p1, ticks)
+        self.glide_n = [0] * 4  # ticks of that line done
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
         self.out_of_reach = False
@@ -147,8 +151,12 @@ class CLMController(MachineController):
             if self.queue:
                 k = self.queue.pop(0)
             elif self.state == WALK:
-                k = GAIT_ORDER[self.next_gait % 4]
-                self.next_gait += 1
+                # the gait turn; an arm whose foothold has left its range (the crawlers are waiting
+                # for it) goes first and the cycle goes on from it
+                j = GAIT_ORDER.index(self.out_arm) if self.out_of_reach else self.next_gait % 4
+                k, self.next_gait = GAIT_ORDER[j], j + 1
+                if self.out_of_reach:
+                    self.queue_reason[k] = "out of range: its turn comes first"
             else:
                 return -1
             self.phase[k] = 1
@@ -166,8 +174,22 @@ class CLMController(MachineController):
             # following its descent (encoders)
             self.t3[i] += self.dt
             tx, ty, tz = self.targets[k]
-            # fast while high above the expected ground, then slow for a soft touch
-            self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
+            g = self.glide[i]
+            if g is not None:
+                # first a straight line from where the swing ended to the top of the descent, at
+                # the fast rate: the servos' own path there (a joint-space sweep) would swing
+                # the tip out and land it off its foothold (the block's top, 0.26 m out)
+                p0, p1, n = g
+                self.glide_n[i] += 1
+                u = min(self.glide_n[i] / n, 1.0)
+                gx, gy, gz = (p0[j] + u * (p1[j] - p0[j]) for j in range(3))
+                if u >= 1.0:
+                    self.glide[i] = None
+                self.low_z[i] = gz
+            else:
+                gx, gy = tx, ty
+                # fast while high above the expected ground, then slow for a soft touch
+                self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
             touched = abs(obs.tau_elbow[i] - self.tau_ref[i]) > cfg.contact_torque
             # blocked: the tip lags its target and has stopped descending (a servo lag alone
             # while the target falls fast is not a contact)
@@ -176,13 +198,15 @@ class CLMController(MachineController):
             # or the body tilts while the arm descends: the arm has started to carry it (IMU)
             tilted = max(abs(obs.pitch - self.att0[0]), abs(obs.roll - self.att0[1])) > cfg.tilt_contact
             if self.t3[i] > 0.2 and (touched or blocked or tilted):
+                self.land_why = "+".join(n for n, on in (("torque", touched), ("blocked", blocked),
+                                                          ("tilted", tilted)) if on)
                 self._land(obs, k, i)
                 return i
             # the free-motion reference follows the slow changes (gravity, servo lag, the IK's
             # posture): a contact is a jump above it
             self.tau_ref[i] += cfg.tau_filter * (obs.tau_elbow[i] - self.tau_ref[i])
             new_ph = 4 if self.low_z[i] < tz - cfg.pit_depth else 3
-            c = ak.ik_f(tx, ty, float(self.low_z[i]), self._ikc[i])
+            c = ak.ik_f(gx, gy, float(self.low_z[i]), self._ikc[i])
         else:
             ab = max(cfg.arm_ab - self.extra_lift[i], self.robot.boom_range[0] + 0.05)
             new_ph, c = transfer_step(ph, q, self.cmd.arm[i], tgt, ab, cfg.d_swing, cfg.d_lift, cfg.k_boom)
@@ -213,6 +237,13 @@ class CLMController(MachineController):
             while z > tz and ak.ik_f(tx, ty, z, self._ikc[i])[1] < lo:
                 z -= 0.02
             self.low_z[i] = z
+            # an arm lifted higher after a blocked swing starts its descent far from the top of
+            # it: a straight line there first (see phase 3)
+            p0 = self.tip_r[i].tolist()
+            d = math.dist(p0, (tx, ty, z))
+            far = d > cfg.d_d and self.extra_lift[i] > 0
+            self.glide[i] = (p0, (tx, ty, z), math.ceil(d / (3.0 * cfg.lower_dz))) if far else None
+            self.glide_n[i] = 0
             self.att0 = (obs.pitch, obs.roll)
         self.cmd.arm[i] = c
         if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
@@ -231,12 +262,22 @@ class CLMController(MachineController):
         self.landing[i], self.still[i] = True, 0
         p = self.tip_r[i].copy()
         self.foot[i] = p.tolist()
+        self.land_z[i] = self.foot[i][2]
         self.cmd.arm[i] = ak.ik(p - np.array([0.0, 0.0, cfg.press]), self.robot, k)
 
     def _settle(self, obs, k: str, i: int) -> None:
         """A landing tip that has stopped moving (encoders) for ``settle_ticks`` is a support:
         its elbow torque becomes the collision reference and the arm stop case is recorded."""
         cfg = self.cfg
+        if cfg.relower_dz and self.tip_z[i] < self.land_z[i] - cfg.relower_dz:
+            # the pressing tip went on down below where it stopped: the signal was not a contact
+            # (a torque or tilt transient in the air); lower again from here
+            self.landing[i] = False
+            self.phase[k], self.t3[i], self.low_z[i] = 3, 0.0, self.tip_z[i]
+            self.tau_ref[i], self.att0 = obs.tau_elbow[i], (obs.pitch, obs.roll)
+            self._arm_event(obs.t, k, TRANSFER, TRANSFER, f"no contact ({self.land_why}): the tip went on "
+                            f"down {cfg.relower_dz:g} m: lowering again")
+            return
         self.still[i] = self.still[i] + 1 if abs(self.tip_z[i] - self.prev_tip_z[i]) < cfg.settle_dz else 0
         if self.still[i] < cfg.settle_ticks:
             return
@@ -271,6 +312,8 @@ class CLMController(MachineController):
                 continue
             if self.landing[i]:
                 self._settle(obs, k, i)
+                if self.phase[k]:  # not a contact: lowering again
+                    continue
             f = self.foot[i]
             sx, sy = CORNER[k]
             beyond = f[0] < (rmin_front if sx > 0 else rmin_rear) or math.hypot(f[0] - sx * mx, f[1] - sy * my) > rmax

@@ -75,6 +75,13 @@ class CLMConfig:
     lower_dz: float = param(0.01, gt=0, unit="m/tick",
                             doc="descent of a lowering tip's target per tick (0.5 m/s), three times that while more "
                                 "than 0.15 m above the target height")
+    relower_dz: float = param(0.0, ge=0, unit="m",
+                              doc="a landed tip that goes on down this far below where it stopped while pressing "
+                                  "was not in contact (a torque or tilt transient in the air): it lowers again; 0 "
+                                  "= off (the default: it presses down at the servo's pace until it settles). On "
+                                  "at 0.08 (d_d) the walk's false landings end in 0.3 s instead of 1-3.7 s and the "
+                                  "tracks stop less, but the climbs start in other arm states and the terraces fail "
+                                  "(docs/octopus.md, 'Tracks stopped')")
     tau_filter: float = param(0.15, ge=0, le=1,
                               doc="per-tick weight of the elbow torque in its free-motion reference while lowering "
                                   "(a contact is a jump of contact_torque above it)")

@@ -294,3 +294,75 @@ def test_an_arm_lifted_higher_glides_to_the_top_of_its_descent():
     off = np.linalg.norm(np.cross(path - np.asarray(p0), d / np.linalg.norm(d)), axis=1)
     assert off.max() < 0.01                            # the commanded tips lie on the line
     assert path[-1] == pytest.approx(list(p1), abs=0.01) and ctl.glide[i] is None
+
+
+def test_a_climb_at_the_guard_with_every_arm_lifted_places_the_arms_again():
+    """The stability monitor stops the crawlers beyond guard_pitch and the rear booms bring the nose
+    down; with every arm lifted clear nothing can, so the arms are placed again (walk)."""
+    ctl, obs = _walking_clm()
+    obs.pitch = ctl.cfg.guard_pitch + 0.05
+    ctl.machine.go(obs.t, clm.CLIMB, "test")
+    ctl.lifted = np.ones(4, bool)
+    ctl.guarding, ctl.still_pitch, ctl.still_t = False, obs.pitch, 0.0
+    ctl.cmd.flip[:] = [-0.5, -0.5, -0.8, -0.8]
+    ctl._climb_nose(obs)
+    assert ctl.state == clm.WALK and ctl.placing and ctl.queue == list(clm.GAIT_ORDER)
+    assert ctl.cmd.flip[:2].tolist() == [ctl.cfg.flipper_start] * 2 and (ctl.cmd.flip[2:] >= 0).all()
+    assert "every arm lifted clear" in ctl.machine.events[-1].reason
+
+
+def _alone_in_a_climb(pitch: float, s: float):
+    """A controller in the climb's state machine with every arm lifted clear (no climb physics)."""
+    ctl, obs = _walking_clm()
+    obs.pitch = pitch
+    ctl.machine.go(obs.t, clm.CLIMB, "test")
+    ctl.lifted, ctl.guarding = np.ones(4, bool), False
+    ctl.still_pitch, ctl.still_t, ctl.s, ctl.s_release = pitch, 0.0, s, 0.45
+    return ctl, obs
+
+
+def test_a_stalled_climb_with_every_arm_lifted_places_the_arms_again():
+    """Below the guard, past the release distance, the pitch held still for stall_time: the
+    crawlers slip with no arm to help (a stall); a pitch that moves, a climb short of its release
+    distance or an arm still down is not one."""
+    n = int(round(_walking_clm()[0].cfg.stall_time / 0.02)) + 2
+
+    def run(pitches, s, lifted=(True,) * 4):
+        ctl, obs = _alone_in_a_climb(pitches[0], s)
+        ctl.lifted[:] = lifted
+        why = ""
+        for k in range(n):
+            obs.pitch = pitches[k % len(pitches)]
+            why = why or ctl._stalled_alone(obs)
+        return why
+
+    assert run([0.74], s=0.6).startswith("pitch held at 0.74 rad")
+    assert run([0.70, 0.74], s=0.6) == ""          # the nose moving: the body moves
+    assert run([0.74], s=0.3) == ""                # not yet its release distance
+    assert run([0.74], s=0.6, lifted=(True, True, False, True)) == ""   # a rear arm still down
+
+
+def test_beyond_reach_matches_where_the_ik_stretches_the_arm():
+    """``beyond_reach`` is true exactly where :func:`ik_f` cannot put the tip on its target."""
+    robot = RobotConfig()
+    rng = np.random.default_rng(0)
+    for k in clm.ARMS:
+        c = ak.ik_constants(robot, k)
+        for p in rng.uniform([-1.4, -1.4, -1.0], [1.4, 1.4, 0.6], size=(200, 3)):
+            q = np.array(ak.ik_f(*p.tolist(), c))
+            err = np.linalg.norm(ak.fk(q, robot, k) - p)
+            assert (err > 1e-6) == ak.beyond_reach(*p.tolist(), c), (k, p, err)
+
+
+def test_an_arm_over_a_drop_deeper_than_its_reach_finds_no_ground():
+    """Zoo step-down 0.6 m (deeper than the arm): the front arm lowering over the drop stops at full
+    stretch; that is not a contact (the tip would press at the stretch forever, the gait waiting):
+    it lowers on to the pit case, and the robot goes down the step."""
+    from terrabench import get_system
+
+    zoo = get_system("zoo")
+    r = zoo.run_trial(zoo.plan(methods=["octopus.clm"], instances=["step-down@0.6"], seeds=1)[0])
+    assert r.status == "success"
+    ev = [tuple(e) for e in r.info["events"]]
+    assert any("pressed at full stretch" in e[3] for e in ev)
+    assert any(e[3] == "no ground within reach (pit)" for e in ev)

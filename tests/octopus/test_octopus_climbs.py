@@ -145,13 +145,17 @@ def test_clm_climbs_a_low_riser_where_the_flipper_rule_stalls():
 
 
 def test_clm_climbs_the_terraces_one_by_one():
-    """terrace2-front: one climb per terrace, H_EST re-estimated each time from the four tips; the
-    first ends on the lower terrace (0.2 m), the robot is on the 0.4 m top at the end."""
+    """terrace2-front: terrace by terrace, H_EST estimated from the four tips: the first climb is
+    for the lower terrace (0.2 m) and ends on it; the 0.2 m second riser, below the flippers'
+    250 mm ("OCTOPUS can climb the step which height is lower than 250 mm ... without using arms"),
+    is mounted by the walk's crawlers and flippers or by a second climb (19 of 20 seeds mount it
+    walking since the walk keeps its tracks running); the robot is on the 0.4 m top at the end."""
     r = _run("clm", "terrace2-front")
     assert r.status == "success"
     climbs = [e for e in _mode_events(r, "climb") if e[1] == "walk"]   # fresh climbs, not resumed ones
     h = [float(e[3].split("H_EST = ")[1].split(" m")[0]) for e in climbs]
-    assert len(climbs) >= 2 and h[0] == pytest.approx(0.2, abs=0.03) and max(h[1:]) > 0.05
+    assert len(climbs) >= 1 and h[0] == pytest.approx(0.2, abs=0.03)
+    assert all(x > 0.05 for x in h[1:])
     ts = r.timeseries
     after_first = ts["t"] > _mode_events(r, "walk")[1][0]   # walking again after the first release
     z_mid = ts["z"][after_first][0]
@@ -210,19 +214,25 @@ def test_clm_nose_climb_pitches_up_on_loaded_crawlers():
     assert nose.status == "success" and hoist.status == "success"
     assert any("front pulley" in e[3] and "over the top" in e[3] for e in _events(nose))
     assert 0.45 < nose.metrics["max_pitch_rad"] < 0.8 and hoist.metrics["max_pitch_rad"] < 0.35
-    assert nose.metrics["crawler_load_share_min"] > 0.3 > hoist.metrics["crawler_load_share_min"]
+
+    def climb_share(r, q):
+        m, sh = np.asarray(r.timeseries["mode"]), np.asarray(r.timeseries["track_share"])
+        return float(np.percentile(sh[(m == 1) & np.isfinite(sh)], q))
+
+    # the crawlers are never unloaded through the nose climb (its 5th percentile and its least
+    # share above 0); the hoist carries the robot on its arms at some climb instants (share 0)
+    assert climb_share(nose, 5) > 0.3 > climb_share(hoist, 5)
+    assert nose.metrics["crawler_load_share_min"] > 0.05 > hoist.metrics["crawler_load_share_min"]
 
 
-def test_clm_waits_for_its_arms_after_a_release_on_a_short_tread():
+def test_clm_keeps_its_crawlers_running_after_a_release_on_a_short_tread():
     """terrace2-front seed 0: the first climb releases with the rear still below the edge (the
-    front at the second riser, the 0.45 m tread is shorter than the robot); waiting with the body
-    pitched until the four arms are down (``place_pitch``) lets the next climb start from four
-    sensed tips. Never waiting (place_pitch at its bound, pi/2), the crawlers mount the second
-    riser alone while the arms are in transfer, up to the walk guard, and the trial sticks."""
-    import math
-
-    waits = _run("clm", "terrace2-front")
-    never = _run("clm", "terrace2-front", **{"clm.place_pitch": math.pi / 2})
-    assert waits.status == "success"
-    assert never.status != "success"
-    assert any("back off" in e[3] for e in _events(never))
+    front at the second riser, the 0.45 m tread is shorter than the robot). The crawlers keep
+    their speed while the arms are placed again (``place_pitch`` pi/2, the default) and the robot
+    gets on top; waiting with the body pitched until the four arms are down (0.15, the earlier
+    default) also succeeds but stops the tracks on a quarter of the walking ticks."""
+    drives = _run("clm", "terrace2-front")
+    waits = _run("clm", "terrace2-front", **{"clm.place_pitch": 0.15})
+    assert drives.status == "success" and waits.status == "success"
+    assert drives.metrics["tracks_stopped_share"] < 0.05 < waits.metrics["tracks_stopped_share"]
+    assert drives.metrics["sim_time"] < waits.metrics["sim_time"]

@@ -77,6 +77,13 @@ def ik_f(px: float, py: float, pz: float, c: tuple[float, ...]) -> tuple[float, 
     return (math.atan2(dx, dy), math.atan2(h, r) - math.atan2(l2 * math.sin(el), l1 + l2 * math.cos(el)), el)
 
 
+def beyond_reach(px: float, py: float, pz: float, c: tuple[float, ...]) -> bool:
+    """Whether (px, py, pz) in {R} is out of the reach of the arm of constants ``c``
+    (:func:`ik_constants`): :func:`ik_f` would stretch the arm straight toward it."""
+    sxmx, sy, my, mz, _, _, _, _, _, reach = c
+    return math.hypot(math.hypot(px - sxmx, sy * py - my), pz - mz - 0.04) > reach
+
+
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:
     """Joints (swing, boom, elbow) (rad) putting arm ``k``'s tip at ``p`` in {R}; knee up
     (:func:`ik_f` as an array)."""

@@ -86,6 +86,7 @@ class CLMController(MachineController):
         self.land_why = ""  # the signal of the last landing: torque / blocked / tilted
         self.glide: list = [None] * 4  # a lowering arm's line to the top of its descent (p0, p1, ticks)
         self.glide_n = [0] * 4  # ticks of that line done
+        self.settle_z0 = [0.0] * 4  # a landing tip's height at the start of its settle window (m)
         self.still = np.zeros(4, int)  # tip height target of a lowering arm in {R} (m)
         self.tp = 0.0  # terrain pitch T_P of the last four-tip exploration (rad)
         self.out_of_reach = False
@@ -150,6 +151,9 @@ class CLMController(MachineController):
                 return -1
             if self.queue:
                 k = self.queue.pop(0)
+                if self.placing:
+                    # arms placed again after a release: the gait cycle goes on after the last one
+                    self.next_gait = GAIT_ORDER.index(k) + 1
             elif self.state == WALK:
                 # the gait turn; an arm whose foothold has left its range (the crawlers are waiting
                 # for it) goes first and the cycle goes on from it
@@ -190,11 +194,14 @@ class CLMController(MachineController):
                 gx, gy = tx, ty
                 # fast while high above the expected ground, then slow for a soft touch
                 self.low_z[i] -= cfg.lower_dz * (3.0 if self.low_z[i] > tz + 0.15 else 1.0)
-            touched = abs(obs.tau_elbow[i] - self.tau_ref[i]) > cfg.contact_torque
+            # a target beyond the arm's reach stretches it straight: the tip stops and the elbow's
+            # torque jumps at full stretch, with no ground under it (a drop deeper than the arm)
+            stretched = ak.beyond_reach(gx, gy, float(self.low_z[i]), self._ikc[i])
+            touched = abs(obs.tau_elbow[i] - self.tau_ref[i]) > cfg.contact_torque and not stretched
             # blocked: the tip lags its target and has stopped descending (a servo lag alone
             # while the target falls fast is not a contact)
             stopped = self.tip_r[i, 2] - self.prev_tip_z[i] > -0.25 * cfg.lower_dz
-            blocked = stopped and self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz
+            blocked = stopped and self.tip_r[i, 2] - self.low_z[i] > cfg.stall_dz and not stretched
             # or the body tilts while the arm descends: the arm has started to carry it (IMU)
             tilted = max(abs(obs.pitch - self.att0[0]), abs(obs.roll - self.att0[1])) > cfg.tilt_contact
             if self.t3[i] > 0.2 and (touched or blocked or tilted):
@@ -269,16 +276,28 @@ class CLMController(MachineController):
         """A landing tip that has stopped moving (encoders) for ``settle_ticks`` is a support:
         its elbow torque becomes the collision reference and the arm stop case is recorded."""
         cfg = self.cfg
-        if cfg.relower_dz and self.tip_z[i] < self.land_z[i] - cfg.relower_dz:
-            # the pressing tip went on down below where it stopped: the signal was not a contact
-            # (a torque or tilt transient in the air); lower again from here
+        f = self.foot[i]
+        stretched = ak.beyond_reach(f[0], f[1], self.tip_z[i] - cfg.press, self._ikc[i])
+        if cfg.relower_dz and (self.tip_z[i] < self.land_z[i] - cfg.relower_dz or stretched):
+            # the pressing tip went on down below where it stopped, or presses at the arm's full
+            # stretch (nothing under it within reach): the signal was not a contact (a torque or
+            # tilt transient in the air); lower again
             self.landing[i] = False
-            self.phase[k], self.t3[i], self.low_z[i] = 3, 0.0, self.tip_z[i]
+            # (the descent goes on from its target, so a deep pit is still found: phase 4)
+            self.phase[k], self.t3[i], self.low_z[i] = 3, 0.0, min(self.low_z[i], self.tip_z[i])
             self.tau_ref[i], self.att0 = obs.tau_elbow[i], (obs.pitch, obs.roll)
-            self._arm_event(obs.t, k, TRANSFER, TRANSFER, f"no contact ({self.land_why}): the tip went on "
-                            f"down {cfg.relower_dz:g} m: lowering again")
+            where = "pressed at full stretch" if stretched else f"went on down {cfg.relower_dz:g} m"
+            self._arm_event(obs.t, k, TRANSFER, TRANSFER, f"no contact ({self.land_why}): the tip {where}: "
+                            "lowering again")
             return
-        self.still[i] = self.still[i] + 1 if abs(self.tip_z[i] - self.prev_tip_z[i]) < cfg.settle_dz else 0
+        # settled: settle_ticks ticks within a band of settle_dz a tick about the first (a band, not a
+        # per-tick limit: a pressing tip jitters by more than settle_dz a tick while the crawlers
+        # run, and a per-tick test kept a landed arm "landing" for 11 s, terrace2-front seed 8)
+        if self.still[i] == 0:
+            self.settle_z0[i] = self.tip_z[i]
+        self.still[i] += 1
+        if abs(self.tip_z[i] - self.settle_z0[i]) > cfg.settle_dz * cfg.settle_ticks:
+            self.still[i] = 0
         if self.still[i] < cfg.settle_ticks:
             return
         self.landing[i], self.contact[i] = False, True
@@ -356,6 +375,7 @@ class CLMController(MachineController):
         if not resume:
             self.pitch0 = obs.pitch  # the pitch of the ground the crawlers drive on
         self.prev_pitch = obs.pitch
+        self.still_pitch, self.still_t = obs.pitch, 0.0  # the stall test's reference pitch and time (s)
         self.over = resume
         self.up = resume
 
@@ -394,6 +414,12 @@ class CLMController(MachineController):
         """
         cfg, c, r = self.cfg, self.cmd, self.robot
         v = cfg.climb_track_speed
+        why = self._stalled_alone(obs)
+        if why:
+            # the arms are placed again (the walk, whose guard backs the crawlers off) and the next
+            # climb starts from four sensed tips
+            self._replace(obs, f"{why} with every arm lifted clear: arms placed again")
+            return
         if obs.pitch > cfg.guard_pitch:
             # the stability monitor: the crawlers stop (backing off on the rolling rear tips would
             # only roll the pitched robot away from the step) while the rear booms bring the nose down
@@ -404,7 +430,10 @@ class CLMController(MachineController):
         self.guarding = obs.pitch > cfg.guard_pitch
         c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
         h = self._h_over()
-        h_rear = cog_height(self.tip_c[2:], cfg.h2)  # H (eqs. 10-12) from the rear tips
+        # H (eqs. 10-12) from both rear tips, a lifted-clear one too (it reads the robot lower than
+        # it stands; from the supporting tips only, the rear is "up" sooner and the releases come
+        # early: docs/octopus.md, "sensitive to the walk's timing")
+        h_rear = cog_height(self.tip_c[2:], cfg.h2)
         # the front crawlers on the top: the track bottom reaches the top's level (H = H_EST) when
         # the rear is up, not above it, so "H >= H_EST" is read within lift_margin
         # latched (the rear arms may lift clear): H within lift_margin of H_EST, or the front on the
@@ -598,11 +627,34 @@ class CLMController(MachineController):
                     c.flip[f] = min(c.flip[f] + cfg.release_d_f, 0.0)
             if all(c.arm[i, 1] <= cfg.release_boom + 1e-9 for i in range(4)) and (c.flip >= -1e-9).all():
                 # back to walking on the top: arms re-placed, front flippers to their cruise angle
-                self.machine.go(obs.t, WALK, "booms and flippers released")
-                self.queue = list(GAIT_ORDER)
-                c.flip[:2] = cfg.flipper_start
-                self.contact[:] = [False] * 4
-                self.placing = True
+                self._replace(obs, "booms and flippers released")
+
+    def _stalled_alone(self, obs) -> str:
+        """Why a climb on the crawlers alone (every arm lifted clear) cannot go on, or "": stopped
+        at the guard (no arm is left to bring the nose down) or stalled (past its release distance,
+        the pitch held within 0.02 rad for ``stall_time``: the crawlers slip); called every climb tick."""
+        cfg = self.cfg
+        alone = bool(self.lifted.all())
+        if abs(obs.pitch - self.still_pitch) > 0.02 or not alone or self.s <= self.s_release:
+            self.still_pitch, self.still_t = obs.pitch, 0.0
+        self.still_t += self.dt
+        if not alone:
+            return ""
+        if obs.pitch > cfg.guard_pitch:
+            return f"pitch {obs.pitch:.2f} rad > {cfg.guard_pitch}"
+        if self.still_t > cfg.stall_time:
+            return f"pitch held at {obs.pitch:.2f} rad for {cfg.stall_time:g} s past S = {self.s_release:.2f} m"
+        return ""
+
+    def _replace(self, obs, reason: str) -> None:
+        """Back to walking with the four arms placed again (the crawlers wait for them while the body
+        is pitched, ``place_pitch``), front flippers at their cruise angle, rear ones not pushing."""
+        self.machine.go(obs.t, WALK, reason)
+        self.queue = list(GAIT_ORDER)
+        self.cmd.flip[:2] = self.cfg.flipper_start
+        np.maximum(self.cmd.flip[2:], 0.0, out=self.cmd.flip[2:])
+        self.contact[:] = [False] * 4
+        self.placing = True
 
     # ---------------------------------------------------------------- main
     def __call__(self, obs) -> Command:
@@ -670,7 +722,11 @@ class CLMController(MachineController):
             # the nose pitched up this much with an up-step sensed: the crawlers are mounting an
             # edge with the rear below it (the next terrace after a release): lift the rear too
             mounting = obs.pitch > cfg.mount_pitch
-            if all_down and self.last_case == UP and (at_limit or steep or mounting):
+            # a climb does not start while a rear foothold is out of range (its arm is re-placed
+            # first, the crawlers waiting): it would be lifted clear at once and the rear pushed up
+            # by the other arm alone (step-400 seed 1's roll, 5 of 10 step-400 seeds stuck)
+            rear_out = self.out_of_reach and self.out_arm[1] == "R"
+            if all_down and not rear_out and self.last_case == UP and (at_limit or steep or mounting):
                 # per terrace: the nearer (lower) front tip's height over the rear tips
                 self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
                 self.s, self.s_release, self.resumes = 0.0, cfg.climb_distance, 0

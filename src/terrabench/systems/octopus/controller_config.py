@@ -75,21 +75,21 @@ class CLMConfig:
     lower_dz: float = param(0.01, gt=0, unit="m/tick",
                             doc="descent of a lowering tip's target per tick (0.5 m/s), three times that while more "
                                 "than 0.15 m above the target height")
-    relower_dz: float = param(0.0, ge=0, unit="m",
+    relower_dz: float = param(0.08, ge=0, unit="m",
                               doc="a landed tip that goes on down this far below where it stopped while pressing "
-                                  "was not in contact (a torque or tilt transient in the air): it lowers again; 0 "
-                                  "= off (the default: it presses down at the servo's pace until it settles). On "
-                                  "at 0.08 (d_d) the walk's false landings end in 0.3 s instead of 1-3.7 s and the "
-                                  "tracks stop less, but the climbs start in other arm states and the terraces fail "
-                                  "(docs/octopus.md, 'Tracks stopped')")
+                                  "was not in contact (a torque or tilt transient in the air): it lowers again "
+                                  "(0 = off: it presses down at the servo's pace until it settles, 1-3.7 s for the "
+                                  "10 of 23 false landings of block-500 seed 0); d_d, the arm stop case's height "
+                                  "threshold (docs/octopus.md, 'Tracks stopped')")
     tau_filter: float = param(0.15, ge=0, le=1,
                               doc="per-tick weight of the elbow torque in its free-motion reference while lowering "
                                   "(a contact is a jump of contact_torque above it)")
     settle_dz: float = param(0.0005, gt=0, unit="m/tick",
-                             doc="a landed tip whose height changes less than this a tick for settle_ticks ticks "
-                                 "has settled: it is a support")
+                             doc="a landed tip whose height stays for settle_ticks ticks within settle_dz x "
+                                 "settle_ticks of its first has settled: it is a support")
     settle_ticks: int = param(5, ge=1,
-                              doc="ticks in a row a landed tip must move less than settle_dz before it is a support")
+                              doc="ticks a landed tip must stay within its settle band (settle_dz) before it is a "
+                                  "support")
     stall_dz: float = param(0.04, gt=0, unit="m",
                             doc="a lowering tip that has stopped descending this far above its descending target "
                                 "has landed (stopped following)")
@@ -185,6 +185,10 @@ class CLMConfig:
                                  "(mount_pitch) start a fresh climb with H_EST re-estimated from the four tips (the "
                                  "next terrace); with 0 the 450 mm sweep step fails 2/3 (its four-tip case is past "
                                  "sigma2, so no walk trigger), with 3 it climbs 3/3")
+    stall_time: float = param(3.0, gt=0, unit="s",
+                              doc="a climb with every arm lifted clear, past its release distance, whose pitch has "
+                                  "held within 0.02 rad this long is stalled (the crawlers slip: 0.18 m of track "
+                                  "at 0.06 m/s that moves nothing); the arms are placed again, as at guard_pitch")
     guard_pitch: float = param(0.9, gt=0, le=math.pi / 2, unit="rad",
                                doc="the paper's real-time stability monitor in the walk: beyond this nose-up pitch "
                                    "(below the ~0.93 rad static tip-back angle on the rear flippers, "
@@ -203,15 +207,18 @@ class CLMConfig:
                                  "slowly'); the front flippers come down onto the top once they clear its edge; the "
                                  "rear arms press with a bounded force (the rear crawlers stay loaded) until the "
                                  "front pulley is over the top, then lift the rear. The default since the release's "
-                                 "wait (place_pitch) made the two-terrace tasks 5/5 each (before: 3/5); False is the "
-                                 "level four-arm hoist of issue 21")
-    place_pitch: float = param(0.15, gt=0, le=math.pi / 2, unit="rad",
+                                 "wait (place_pitch, off since the walk fixes of 2026-12-04) made the two-terrace "
+                                 "tasks 5/5 each (before: 3/5); False is the level four-arm hoist of issue 21")
+    place_pitch: float = param(math.pi / 2, gt=0, le=math.pi / 2, unit="rad",
                                doc="after a release the arms are re-placed; while the body is pitched nose-up more "
-                                   "than this (the rear still below the edge: on a short tread the front is already "
-                                   "at the next riser) the crawlers wait until the four arms are down, so the next "
-                                   "climb starts from four sensed tips [R: driving on, the crawlers mounted the next "
-                                   "riser alone while the arms were in transfer, pitch to guard_pitch, stuck: "
-                                   "terrace2-front seed 0 at 43-65 s]; level within it (on the top) they drive on")
+                                   "than this the crawlers wait until the four arms are down (pi/2, the default: "
+                                   "never, the crawlers keep their speed as in the paper). At 0.15 (the earlier "
+                                   "default, against the crawlers mounting a short tread's next riser alone, "
+                                   "terrace2-front seed 0) the terraces stopped the tracks on 6.1 / 4.9 % of walking "
+                                   "ticks (front / side, median of 20 seeds) against 0.2 / 0.0 % and took 62 / 73 s "
+                                   "against 55 / 55 s, with the "
+                                   "same 40/40 successes: the false landings re-lowered (relower_dz), the settle "
+                                   "band and the stalled climb's recovery (stall_time) made the wait unneeded")
     climb_pitch: float = param(0.6, gt=0, le=math.pi / 2, unit="rad",
                                doc="nose-up pitch the front booms lift toward in the nose climb (nose_climb); above it "
                                    "they hold [P: the CLM climb's largest pitch, 0.6 rad]; below the walk guard "

@@ -432,7 +432,7 @@ class CLMController(MachineController):
         h = self._h_over()
         # H (eqs. 10-12) from both rear tips, a lifted-clear one too (it reads the robot lower than
         # it stands; from the supporting tips only, the rear is "up" sooner and the releases come
-        # early: docs/octopus.md, "sensitive to the walk's timing")
+        # early: docs/octopus.md, "Tracks stopped")
         h_rear = cog_height(self.tip_c[2:], cfg.h2)
         # the front crawlers on the top: the track bottom reaches the top's level (H = H_EST) when
         # the rear is up, not above it, so "H >= H_EST" is read within lift_margin

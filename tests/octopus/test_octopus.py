@@ -1,12 +1,16 @@
 """OCTOPUS: pinned model, sensing boundary, CLM rules, stability margin, terrain pieces, trials."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
+from terrabench import get_system
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.sim.scene import compile_scene
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus import clm, rules
+from terrabench.systems.octopus.controller_config import CLMConfig
 from terrabench.systems.octopus.robot import RobotConfig
 from terrabench.systems.octopus.scenarios import SYSTEM
 from terrabench.systems.octopus.sensing import FIELDS, Observation
@@ -242,10 +246,6 @@ def test_the_mechanism_metrics_are_read_off_the_stored_series():
 
 
 def _walking_clm():
-    from types import SimpleNamespace
-
-    from terrabench.systems.octopus.controller_config import CLMConfig
-
     ctl = clm.CLMController(CLMConfig(), RobotConfig())
     ctl.machine.go(0.0, clm.WALK, "test")
     ctl.queue = []
@@ -358,8 +358,6 @@ def test_an_arm_over_a_drop_deeper_than_its_reach_finds_no_ground():
     """Zoo step-down 0.6 m (deeper than the arm): the front arm lowering over the drop stops at full
     stretch; that is not a contact (the tip would press at the stretch forever, the gait waiting):
     it lowers on to the pit case, and the robot goes down the step."""
-    from terrabench import get_system
-
     zoo = get_system("zoo")
     r = zoo.run_trial(zoo.plan(methods=["octopus.clm"], instances=["step-down@0.6"], seeds=1)[0])
     assert r.status == "success"

@@ -67,21 +67,27 @@ def ik_f(px: float, py: float, pz: float, c: tuple[float, ...]) -> tuple[float, 
     of constants ``c`` (:func:`ik_constants`); on Python floats (numpy's per-call cost exceeds
     this arithmetic). Out-of-reach points are pulled onto the reachable sphere (the arm stretches
     toward them)."""
-    sxmx, sy, my, mz, l1, l2, l1l1, l2l2, l12, reach = c
-    dx = px - sxmx
-    dy = sy * py - my
-    r = math.hypot(dx, dy)
-    h = -(pz - mz - 0.04)  # depth below the boom axis
+    _, _, _, _, l1, l2, l1l1, l2l2, l12, reach = c
+    dx, dy, r, h = _polar(px, py, pz, c)
     d = min(math.hypot(r, h), reach)
     el = math.acos(max(-1.0, min(1.0, (d * d - l1l1 - l2l2) / l12)))
     return (math.atan2(dx, dy), math.atan2(h, r) - math.atan2(l2 * math.sin(el), l1 + l2 * math.cos(el)), el)
 
 
+def _polar(px: float, py: float, pz: float, c: tuple[float, ...]) -> tuple[float, float, float, float]:
+    """(dx, dy, r, h) of a tip target about the arm's boom axis: the offsets from the mount in the
+    arm's frame, their horizontal distance r and the depth h below the boom axis (m)."""
+    sxmx, sy, my, mz = c[0], c[1], c[2], c[3]
+    dx = px - sxmx
+    dy = sy * py - my
+    return dx, dy, math.hypot(dx, dy), -(pz - mz - 0.04)
+
+
 def beyond_reach(px: float, py: float, pz: float, c: tuple[float, ...]) -> bool:
     """Whether (px, py, pz) in {R} is out of the reach of the arm of constants ``c``
     (:func:`ik_constants`): :func:`ik_f` would stretch the arm straight toward it."""
-    sxmx, sy, my, mz, _, _, _, _, _, reach = c
-    return math.hypot(math.hypot(px - sxmx, sy * py - my), pz - mz - 0.04) > reach
+    _, _, r, h = _polar(px, py, pz, c)
+    return math.hypot(r, h) > c[9]
 
 
 def ik(p: np.ndarray, cfg: RobotConfig, k: str) -> np.ndarray:

@@ -149,6 +149,7 @@ class CLMController(MachineController):
         if not moving:
             if obs.t < self.pause_until or any(self.landing):
                 return -1
+            why = "gait turn"
             if self.queue:
                 k = self.queue.pop(0)
                 if self.placing:
@@ -160,12 +161,12 @@ class CLMController(MachineController):
                 j = GAIT_ORDER.index(self.out_arm) if self.out_of_reach else self.next_gait % 4
                 k, self.next_gait = GAIT_ORDER[j], j + 1
                 if self.out_of_reach:
-                    self.queue_reason[k] = "out of range: its turn comes first"
+                    why = "out of range: its turn comes first"
             else:
                 return -1
             self.phase[k] = 1
             self.contact[ARM_INDEX[k]] = False
-            self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, "gait turn"))
+            self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, why))
             moving = [k]
         k = moving[0]
         i = ARM_INDEX[k]

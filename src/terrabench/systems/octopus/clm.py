@@ -505,6 +505,8 @@ class CLMController(MachineController):
                 # -climb_pitch; the front crawlers carry the front, the rear flippers push
                 if h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0:
                     tz -= cfg.lift_dz
+                # roll levelling (IMU): the rear tip on the raised side eases, the other presses on
+                tz += cfg.roll_level * obs.roll * ty
             else:
                 # press: the target at most climb_press below the sensed tip (a lifting arm unloads
                 # at lift_dz a tick)
@@ -513,10 +515,10 @@ class CLMController(MachineController):
             sx, sy = CORNER[k]
             beyond = ((tx < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
                       or math.hypot(tx - sx * mx, ty - sy * my) > cfg.reach_max)
-            # a front arm over the top has unloaded (its target back at the press): the front crawlers
-            # carry the front now, and the arm lifts clear (pressing on, it would straighten into a
-            # strut as the nose rises)
-            beyond = beyond or (front and tz >= tip_z - cfg.climb_press - 1e-6)
+            # front_support off: a front arm over the top that has unloaded (its target back at the
+            # press) lifts clear and the front crawlers carry the front alone; on (the default), it
+            # stays a support on the top at the bounded press until the release (Fig. 9f-h)
+            beyond = beyond or (front and not cfg.front_support and tz >= tip_z - cfg.climb_press - 1e-6)
             if beyond and (not front or self.over):
                 # the lift-clear pose is set once; _lead then holds the command within max_lead of
                 # the encoders and the lifted arm is not revisited, so its boom stays where the first

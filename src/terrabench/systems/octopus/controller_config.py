@@ -227,6 +227,19 @@ class CLMConfig:
                                doc="nose climb: a pressing (not lifting) tip's target sits this far below its sensed "
                                    "height plus the tick's predicted motion (eqs. 22-27 in x and z): a bounded press "
                                    "(~2x press), so the arms assist and the crawlers carry the rest")
+    front_support: bool = param(True,
+                                doc="nose climb: once the front is over the top, the front arms stay supports on "
+                                    "it (the climb_press bounded press, their targets moved by eqs. 22-27) until the "
+                                    "release or until their foothold leaves its range; the paper releases the arms "
+                                    "only after H > H_EST and S > L (Fig. 9f-h). False: they unload and lift clear "
+                                    "as soon as the front is over (the default before 2026-12-05; the robot then "
+                                    "teetered on the edge on its tracks and the rear tips, static margin ~0.02 m)")
+    roll_level: float = param(0.05, ge=0, le=1.0, unit="1/tick",
+                              doc="nose climb, the rear lift (eq. 28): each rear tip's target rises by roll_level x "
+                                  "IMU roll x its y in {R} a tick, an integral roll levelling (the arm on the raised "
+                                  "side eases, the other presses on), 3 mm a tick at 0.1 rad roll, of the order of "
+                                  "lift_dz; 0 = off (one rear arm lifting the rear alone rolled the body 0.11-0.14 rad "
+                                  "on step-400, paper 0.03)")
 
 
 @dataclass(frozen=True)

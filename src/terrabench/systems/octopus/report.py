@@ -129,6 +129,8 @@ MECHANISM = (
     ("max_pitch_rad", "max pitch rad", "~0.6 (Fig. 9)"),
     ("crawler_load_share_min", "crawlers' least load share (climb)", "> 0.5"),
     ("tip_slip_max_m", "tip slip max m (support phase)", "< 0.02"),
+    ("tip_slip_walk_max_m", "tip slip max m (support phase, walk)", "< 0.02"),
+    ("tip_slip_climb_max_m", "tip slip max m (support phase, climb)", "- (paper: not kept, Fig. 9e)"),
     ("tracks_stopped_share", "tracks stopped (walking ticks)", "< 0.05"),
     ("margin_min_m", "static margin min m", "paper's min margin"),
     ("margin_sensed_min_m", "sensed margin min m", "-"),

@@ -29,7 +29,7 @@ COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "ti
            "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR",
            "margin_all", "quasi", "track_share", "track_power",
            "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow",
-           "margin_sensed", "tip_slip", "track_cmd")
+           "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode")
 #: a contact counts in the support polygon if its geom carried this normal force (N) ...
 SUPPORT_LOAD = 20.0
 #: ... within this long (s)
@@ -349,7 +349,10 @@ class OctopusTask(TaskBase):
                                               self._foot)) for b in range(1 << len(ARMS))]
         # tip slip: where each tip's current contact run (support phase) began, None out of contact
         self._tip_start: list[list[float] | None] = [None] * len(ARMS)
-        self._mech = (float("nan"),) * 3
+        # the same, restarted when the controller's mode changes (walk, climb, release)
+        self._tip_start_mode: list[list[float] | None] = [None] * len(ARMS)
+        self._mech_mode = float("nan")
+        self._mech = (float("nan"),) * 4
         self.apply_tracks(np.zeros(2))
         return self.obs
 
@@ -622,9 +625,10 @@ class OctopusTask(TaskBase):
                 te[0], te[1], te[2], te[3],
                 m_all, quasi, share, tpow, *qa[1], *qa[3], *self._mech)
 
-    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float]:
+    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float]:
         """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
-        tip drift within the current support phases (m), the commanded crawler speed (m/s)).
+        tip drift within the current support phases (m), the commanded crawler speed (m/s), the
+        largest tip drift within the current support phases and controller mode (m)).
 
         The sensed margin is the one the robot can compute itself: the supporting tips (those
         whose foot switch, the tip-contact bit, is on) by forward kinematics plus the track
@@ -633,27 +637,38 @@ class OctopusTask(TaskBase):
         roll and pitch leaves only the yaw, which does not change distances, so its horizontal
         geometry is that of the same points' world x, y (the model's frames are the FK of the
         encoder angles). A support phase is a run of stored rows with the tip in contact; the
-        drift is the 3-D distance of the tip from where the run began.
+        drift is the 3-D distance of the tip from where the run began. The per-mode drift restarts
+        its runs where the controller's mode changes, so the walk's arm moving (eqs. 22-27, the
+        footholds held) is read apart from the climb, where the paper does "not try to keep the
+        position of the endpoint of arms consistent" (Fig. 9e).
         """
         d = self.data
         sensed = stability_margin(d.geom_xpos[self._sensed_geoms[tips], :2], d.subtree_com[self.chassis, :2])
         tp = d.geom_xpos[self.tip_geoms].tolist()
-        st = self._tip_start
-        drift = 0.0
+        st, sm = self._tip_start, self._tip_start_mode
+        mode = float(cmd.mode) if cmd is not None else self._mech_mode
+        if mode != self._mech_mode:
+            sm[:] = [None] * len(ARMS)
+            self._mech_mode = mode
+        drift = drift_mode = 0.0
         for i in range(len(ARMS)):
             if tips >> i & 1:
                 if st[i] is None:
                     st[i] = tp[i]
                 else:
                     drift = max(drift, tip_drift(tp[i], st[i]))
+                if sm[i] is None:
+                    sm[i] = tp[i]
+                else:
+                    drift_mode = max(drift_mode, tip_drift(tp[i], sm[i]))
             else:
-                st[i] = None
+                st[i] = sm[i] = None
         if cmd is not None:
             a, b = cmd.track.tolist()
             v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)
         else:
             v = float("nan")
-        return float(sensed), drift, v
+        return float(sensed), drift, v, drift_mode
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
@@ -699,7 +714,9 @@ class OctopusTask(TaskBase):
         """The climb-mechanism figures (issue 28) on the stored rows after the first second:
         ``max_pitch_rad`` (largest |pitch|), ``crawler_load_share_min`` (the crawlers' least share
         of the normal load over the climb rows: CLM climb/release, CCM press/push/flatten),
-        ``tip_slip_max_m`` (largest tip drift within one support phase), ``tracks_stopped_share``
+        ``tip_slip_max_m`` (largest tip drift within one support phase), ``tip_slip_walk_max_m`` and
+        ``tip_slip_climb_max_m`` (the same within one support phase and controller mode: CLM's walk,
+        its climb and release; NaN where there is none), ``tracks_stopped_share``
         (share of CLM walking rows with the crawlers commanded < 1 mm/s; NaN for CCM, which has
         no walk), ``margin_min_m`` (the static margin, as ``min_margin``) and
         ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`)."""
@@ -710,12 +727,16 @@ class OctopusTask(TaskBase):
         climb_modes = {"clm": (clm.CLIMB, clm.RELEASE), "ccm": (ccm.PRESS, ccm.PUSH, ccm.FLATTEN)}.get(self.method, ())
         climb = np.isin(mode, climb_modes) & np.isfinite(share)
         slip, sensed, vcmd = (log.column(c)[idx] for c in ("tip_slip", "margin_sensed", "track_cmd"))
+        slip_mode = log.column("tip_slip_mode")[idx]
         walk = mode == clm.WALK if self.method == "clm" else np.zeros(len(mode), bool)
+        in_climb = np.isin(mode, climb_modes)
         fin = lambda a, f: float(f(a[np.isfinite(a)])) if np.isfinite(a).any() else nan  # noqa: E731
         return {
             "max_pitch_rad": fin(np.abs(pitch), np.max),
             "crawler_load_share_min": float(share[climb].min()) if climb.any() else nan,
             "tip_slip_max_m": fin(slip, np.max),
+            "tip_slip_walk_max_m": fin(slip_mode[walk], np.max),
+            "tip_slip_climb_max_m": fin(slip_mode[in_climb], np.max),
             "tracks_stopped_share": float(np.mean(vcmd[walk] < 1e-3)) if walk.any() else nan,
             "margin_min_m": fin(m_static, np.min),
             "margin_sensed_min_m": fin(sensed, np.min),

@@ -636,8 +636,9 @@ class OctopusTask(TaskBase):
         robot's own mass model. Levelling by
         roll and pitch leaves only the yaw, which does not change distances, so its horizontal
         geometry is that of the same points' world x, y (the model's frames are the FK of the
-        encoder angles). A support phase is a run of stored rows with the tip in contact; the
-        drift is the 3-D distance of the tip from where the run began. The per-mode drift restarts
+        encoder angles). A support phase is a run of stored rows with the tip in contact and its
+        arm not the one in transfer (``cmd.moving_arm``); the drift is the 3-D distance of the tip
+        from where the run began. The per-mode drift restarts
         its runs where the controller's mode changes, so the walk's arm moving (eqs. 22-27, the
         footholds held) is read apart from the climb, where the paper does "not try to keep the
         position of the endpoint of arms consistent" (Fig. 9e).
@@ -650,9 +651,12 @@ class OctopusTask(TaskBase):
         if mode != self._mech_mode:
             sm[:] = [None] * len(ARMS)
             self._mech_mode = mode
+        # the arm in transfer is not a support, whatever it touches (a swing that grazes the
+        # block's face and slides down it is a collision, not a foothold)
+        moving = cmd.moving_arm if cmd is not None else -1
         drift = drift_mode = 0.0
         for i in range(len(ARMS)):
-            if tips >> i & 1:
+            if tips >> i & 1 and i != moving:
                 if st[i] is None:
                     st[i] = tp[i]
                 else:

@@ -267,3 +267,63 @@ def test_footprint_window_is_the_stacked_rows():
             while hist and t - hist[0][0] > 0.5 + 1e-9:
                 hist.popleft()
             assert np.array_equal(fp.points(), np.vstack([p for _, p in hist]))
+
+
+def test_compiled_loads_are_numpys_sums_and_masks():
+    """The stored row's normal loads (``task._loads``): numpy's ``fn.sum()`` and
+    ``fn[side >= 0].sum()`` bit for bit (numpy's pairwise order, up to PW_BLOCK values; numpy's own
+    sum beyond), and the loaded contacts' points and geoms as the boolean masks pick them."""
+    from terrabench.systems.octopus.task import PW_BLOCK, SUPPORT_LOAD, _loads, _pairwise_sum
+
+    rng = np.random.default_rng(6)
+    for n in list(range(0, 40)) + [63, 64, 65, 127, 128]:
+        for _ in range(200):
+            a = rng.normal(size=n) * 10.0 ** rng.uniform(-3, 3, n)
+            for x in (a, np.abs(a), a[::-1].copy()):
+                assert _pairwise_sum(x, n) == float(x.sum())
+    assert math.copysign(1.0, _pairwise_sum(np.array([-0.0]), 1)) == math.copysign(1.0, float(np.array([-0.0]).sum()))
+    for _ in range(3000):
+        k = int(rng.integers(1, PW_BLOCK + 40))
+        f = np.abs(rng.normal(size=(k, 3))) * 10.0 ** rng.uniform(-1, 3, (k, 1))
+        side = rng.integers(-1, 2, k)
+        xy, rg = rng.normal(size=(k, 2)), rng.integers(0, 50, k)
+        fn, on, now, now_g = np.empty(k), np.empty(k), np.empty((k, 2)), np.empty(k, np.int64)
+        total, crawl, c, m = _loads(k, f, side, xy, rg, SUPPORT_LOAD, fn, on, now, now_g)
+        col = f[:, 0]
+        if k > PW_BLOCK:  # the task sums these with numpy
+            assert math.isnan(total) and math.isnan(crawl)
+            total, crawl = float(fn[:k].sum()), float(on[:c].sum())
+        assert total == float(col.sum()) and crawl == float(col[side >= 0].sum())
+        loaded = col > SUPPORT_LOAD
+        assert m == loaded.sum() and np.array_equal(now[:m], xy[loaded]) and np.array_equal(now_g[:m], rg[loaded])
+
+
+def test_per_tick_float_shortcuts_are_the_old_formulas(walking):
+    """``roll_pitch_f`` on ``tolist()`` floats is ``roll_pitch``; the compiled |x|, |y| are
+    np.abs's; the stored row read from the observation's one buffer is the row read from its
+    fields; the task's loads are the old numpy formulas on a live state."""
+    from terrabench.sim.checks import roll_pitch, roll_pitch_f
+    from terrabench.systems.octopus.task import _abs2
+
+    rng = np.random.default_rng(7)
+    for q in rng.normal(size=(2000, 4)):
+        q /= np.linalg.norm(q)
+        assert roll_pitch_f(*q.tolist()) == roll_pitch(q)
+    x, y = rng.normal(size=16) * 100, rng.normal(size=16)
+    x[3], y[5] = -0.0, np.nan
+    ax, ay = np.empty(16), np.empty(16)
+    _abs2(x, y, ax, ay)
+    assert np.array_equal(ax, np.abs(x)) and np.array_equal(ay, np.abs(y), equal_nan=True)
+    task, ctl, ep, obs, cmd = walking
+    assert obs._flat is not None
+    task._row_k = 1  # not a sampled row: the two calls change nothing
+    row = task.row(obs, cmd)
+    flat, obs._flat = obs._flat, None
+    try:
+        task._row_k = 1
+        assert np.array_equal(np.array(task.row(obs, cmd)), np.array(row), equal_nan=True)
+    finally:
+        obs._flat = flat
+    sel, rg, f, _ = task._contacts()
+    fn = f[:, 0]
+    assert task.normal_load() == (float(fn.sum()), float(fn[task._buf[3][:len(sel)] >= 0].sum()))

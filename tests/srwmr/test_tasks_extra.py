@@ -162,9 +162,16 @@ def test_wcm_crab_steers_to_the_direction_of_dx_dy():
     assert np.all(cmd.u == 0)  # steering in place first
     # steered: the crab moves along the line once MC#7 has ramped the forward speed up (~3 s)
     c.action.phase, c.action.y_start = 1, 0.0
+    heading, steer = [], []
     for k in range(400):
         cmd = c(Obs(5.0 + 0.01 * k, mu=cmd.steer if k else np.full(6, math.atan2(2.0, 3.0))))
-    assert math.atan2(cmd.u[1], cmd.u[0]) == pytest.approx(math.atan2(2.0, 3.0), abs=1e-6)
+        heading.append(math.atan2(cmd.u[1], cmd.u[0]))
+        steer.append(np.degrees(cmd.steer))
+    # the speed ramps along the steered line from the first period (vy with vx, not vy at once):
+    # the commanded heading and the wheels never swing towards 90 deg while MC#7 ramps (T9's MC#11 halt)
+    assert np.array(heading) == pytest.approx(math.atan2(2.0, 3.0), abs=1e-6)
+    assert np.array(steer) == pytest.approx(33.69, abs=0.05)
+    assert cmd.u[0] == pytest.approx(0.015 * 3 / math.hypot(3, 2))  # at the step's speed after the ramp
     assert np.degrees(cmd.steer) == pytest.approx(np.full(6, 33.69), abs=0.05)
 
 

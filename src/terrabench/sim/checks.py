@@ -18,7 +18,12 @@ from terrabench.sim.stall import StallWatch
 def roll_pitch(quat) -> tuple[float, float]:
     """Roll (left side up > 0) and pitch (nose up > 0) in rad of a body quaternion (w, x, y, z)
     with x forward and z up (Z-Y-X Euler angles)."""
-    w, x, y, z = map(float, quat)
+    return roll_pitch_f(*map(float, quat))
+
+
+def roll_pitch_f(w: float, x: float, y: float, z: float) -> tuple[float, float]:
+    """:func:`roll_pitch` of a quaternion given as four Python floats (``ndarray.tolist()``'s
+    values: no conversion)."""
     r20 = 2.0 * (x * z - w * y)        # R[2, 0]
     r21 = 2.0 * (y * z + w * x)        # R[2, 1]
     r22 = 1.0 - 2.0 * (x * x + y * y)  # R[2, 2]

@@ -13,7 +13,7 @@ import math
 import mujoco
 import numpy as np
 
-from terrabench.sim.checks import roll_pitch  # noqa: F401 - re-exported: the IMU's angles
+from terrabench.sim.checks import roll_pitch, roll_pitch_f  # noqa: F401 - re-exported: the IMU's angles
 from terrabench.systems.octopus.robot import Names, actuated_joints, torque_joints
 
 #: every field an observation carries (the sensing-boundary test pins this list)
@@ -34,11 +34,14 @@ class Observation:
         tau_elbow: elbow joint torques (N m), arms LF, RF, LR, RR.
     """
 
-    __slots__ = ("_d", "_q", "_tau", "_both", "_quat", "_gyro", "t", "roll", "pitch", "yaw_rate", "q_flip", "q_arm",
-                 "tau_flip", "tau_elbow")
+    # _flat: the one buffer the array fields view (encoders, then torques), or None (the task's
+    # stored row reads it in one go)
+    __slots__ = ("_d", "_s", "_q", "_tau", "_both", "_quat", "_gyro", "_flat", "t", "roll", "pitch", "yaw_rate",
+                 "q_flip", "q_arm", "tau_flip", "tau_elbow")
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
         self._d = data
+        self._s = data.sensordata  # a view of MjData's fixed array: valid for the data's life
         adr = lambda name: int(model.sensor_adr[model.sensor(name).id])  # noqa: E731
         self._quat = adr(Names.IMU)
         self._gyro = adr(Names.GYRO)
@@ -53,10 +56,10 @@ class Observation:
         self.refresh()
 
     def refresh(self) -> "Observation":
-        s = self._d.sensordata
+        s = self._s
         self.t = float(self._d.time)
         a = self._quat
-        self.roll, self.pitch = roll_pitch(s[a: a + 4].tolist())
+        self.roll, self.pitch = roll_pitch_f(*s[a: a + 4].tolist())
         g = self._gyro
         _, wy, wz = s[g: g + 3].tolist()
         # Z-Y-X Euler rate of the heading from body rates: (wy sin(roll) + wz cos(roll)) / cos(pitch)
@@ -65,7 +68,9 @@ class Observation:
         if self._both is not None:
             b = s[self._both].copy()
             self.q_flip, self.q_arm, self.tau_flip, self.tau_elbow = b[:4], b[4:16].reshape(4, 3), b[16:20], b[20:]
+            self._flat = b
             return self
+        self._flat = None
         q = s[self._q].copy()
         self.q_flip, self.q_arm = q[:4], q[4:].reshape(4, 3)
         tau = s[self._tau].copy()

@@ -117,6 +117,66 @@ def _contact_pass(ncon, geom, efc_address, dim, friction, frame, pos, efc_force,
     return k, bits, dim3
 
 
+#: the longest sum :func:`_pairwise_sum` replicates (numpy's ``PW_BLOCKSIZE``: beyond it numpy
+#: splits the sum in halves, recursively)
+PW_BLOCK = 128
+
+
+@numba.njit(cache=True)
+def _pairwise_sum(a, n):  # pragma: no cover
+    """numpy's sum of the first ``n`` <= PW_BLOCK values of ``a`` in numpy's order (``pairwise_sum``
+    of its float loops: under 8 values one after the other, up to 128 from eight partial sums
+    and the rest one after the other), 0.0 + that (the reduction starts from add's identity);
+    checked against ``np.sum`` in tests/octopus/test_octopus_perf.py."""
+    if n < 8:
+        res = -0.0
+        for i in range(n):
+            res += a[i]
+        return 0.0 + res
+    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
+    i = 8
+    while i < n - n % 8:
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[i]
+        i += 1
+    return 0.0 + res
+
+
+@numba.njit(cache=True)
+def _loads(k, f, side, xy, rg, load_min, fn, on, now, now_g):  # pragma: no cover
+    """The normal loads of the pass's ``k`` contacts, compiled: returns (the robot's normal load,
+    the crawlers' part of it (``side`` >= 0), the number of crawler contacts, the number of
+    contacts loaded > ``load_min``), the two loads as numpy's ``fn.sum()`` and
+    ``fn[side >= 0].sum()`` give them (the same values in the same order, :func:`_pairwise_sum`;
+    NaN beyond PW_BLOCK values: the caller sums ``fn[:k]`` and ``on[:count]`` with numpy), and
+    writes the loaded contacts' ground points and robot geoms into ``now`` and ``now_g``
+    (``xy[fn > load_min]``, ``rg[fn > load_min]``)."""
+    c = m = 0
+    for a in range(k):
+        x = f[a, 0]
+        fn[a] = x
+        if side[a] >= 0:
+            on[c] = x
+            c += 1
+        if x > load_min:
+            now[m, 0], now[m, 1] = xy[a, 0], xy[a, 1]
+            now_g[m] = rg[a]
+            m += 1
+    if k > PW_BLOCK:
+        return math.nan, math.nan, c, m
+    return _pairwise_sum(fn, k), _pairwise_sum(on, c), c, m
+
+
 @numba.njit(cache=True)
 def _side_traction(k, f, d1, d2, side, out):  # pragma: no cover
     """Each crawler side's traction (N): |f1 (t1 . x) + f2 (t2 . x)| summed over the side's
@@ -127,6 +187,14 @@ def _side_traction(k, f, d1, d2, side, out):  # pragma: no cover
         s = side[a]
         if s >= 0:
             out[s] += abs(f[a, 1] * d1[a] + f[a, 2] * d2[a])
+
+
+@numba.njit(cache=True)
+def _abs2(x, y, ax, ay):  # pragma: no cover
+    """``ax[:] = |x|``, ``ay[:] = |y|`` (np.abs's values: the sign bit cleared)."""
+    for i in range(x.shape[0]):
+        ax[i] = abs(x[i])
+        ay[i] = abs(y[i])
 
 
 @numba.njit(cache=True)
@@ -292,6 +360,18 @@ class OctopusTask(TaskBase):
         self._stall = Stalled(pr.stuck_time, pr.stuck_progress)
         self._hold_n = int(round(pr.success_hold / pr.control_period))
         self._on_top_n = 0
+        # the stop check's thresholds (:meth:`check`), once: the goal line along the approach axis
+        # (the block: its far end + block_past; else the last edge + success_past) and, on a step
+        # or terrace, the chassis height that says it is on the top
+        lay = self.layout
+        self._goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
+        self._top_z = None if lay.kind in ("block", "rough") else lay.top + self.cfg.robot.pulley_r - 0.05
+        self._turn_over, self._success_tilt = pr.turn_over, pr.success_tilt
+        # views of the chassis' pose and of the actuators' forces and velocities (MjData's fixed
+        # arrays: the views stay valid)
+        self._xpos, self._xquat = data.xpos[self.chassis], data.xquat[self.chassis]
+        self._act_force, self._act_vel = data.actuator_force, data.actuator_velocity
+        self._com_xy, self._geom_xpos = data.subtree_com[self.chassis, :2], data.geom_xpos  # the COG (x, y)
         c, s = math.cos(self.layout.axis_yaw), math.sin(self.layout.axis_yaw)
         self._axis_f = ((c, s), (-s, c))
         self._prog_t, self._prog = -1.0, (0.0, 0.0, 0.0)
@@ -368,7 +448,7 @@ class OctopusTask(TaskBase):
         """(along, across) the approach axis and the chassis height (m), once per instant."""
         t = self.data.time
         if t != self._prog_t:
-            x, y, z = self.data.xpos[self.chassis].tolist()
+            x, y, z = self._xpos.tolist()
             (ca, sa), (cp, sp) = self._axis_f
             self._prog, self._prog_t = (x * ca + y * sa, x * cp + y * sp, z), t
         return self._prog
@@ -378,31 +458,29 @@ class OctopusTask(TaskBase):
         row's tip-back rule share it)."""
         t = self.data.time
         if t != self._att_t:
-            self._att, self._att_t = roll_pitch(self.data.xquat[self.chassis].tolist()), t
+            self._att, self._att_t = roll_pitch(self._xquat.tolist()), t
         return self._att
 
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
-        pr, lay = self.cfg.protocol, self.layout
         roll, pitch = self.attitude()
-        if abs(roll) > pr.turn_over or abs(pitch) > TURN_OVER_PITCH:  # (turned_over's test, its reason)
-            return turned_over(roll, pitch, pr.turn_over, TURN_OVER_PITCH)
+        turn_over = self._turn_over
+        if abs(roll) > turn_over or abs(pitch) > TURN_OVER_PITCH:  # (turned_over's test, its reason)
+            return turned_over(roll, pitch, turn_over, TURN_OVER_PITCH)
         if self._tipped is not None:
             return "tipped_back", self._tipped["reason"]
         s, lat, z = self._position()
-        goal = lay.edge + (pr.block_past if lay.kind == "block" else pr.success_past)
+        goal = self._goal
         if slow:
             stuck = self._stall(self.data.time, s, lat, abs(goal - s), f"at s = {s:.2f} m")
             if stuck is not None:
                 return stuck
-        stable = abs(roll) < pr.success_tilt and abs(pitch) < pr.success_tilt
-        if lay.kind == "block":
-            past = s > lay.edge + pr.block_past
-        elif lay.kind == "rough":
-            past = s > lay.edge + pr.success_past
-        else:
-            past = s > lay.edge + pr.success_past and z > lay.top + self.cfg.robot.pulley_r - 0.05
+        tilt = self._success_tilt
+        stable = abs(roll) < tilt and abs(pitch) < tilt
+        # past the goal line (the block: past its far end; a step or terrace: on the top too)
+        past = s > goal and (self._top_z is None or z > self._top_z)
         self._on_top_n = self._on_top_n + 1 if (past and stable) else 0
         if self._on_top_n >= self._hold_n:
+            pr, lay = self.cfg.protocol, self.layout
             where = {"block": "past the block", "rough": "1.5 m over the rough ground"}.get(
                 lay.kind, f"on the {lay.top:.2f} m top")
             return "success", f"{where}, stable for {pr.success_hold} s"
@@ -463,21 +541,19 @@ class OctopusTask(TaskBase):
         if not len(sel):
             self._behind, self._rear_prev = None, (math.nan, False)  # no contact: nothing to be behind (tip-back)
             return nan, nan, 0.0, nan, power
-        fn = f[:, 0]
-        total, on_crawlers = self.normal_load()
-        loaded = fn > SUPPORT_LOAD
+        total, on_crawlers, n_loaded = self._loads()
         v = d.qvel[:6].tolist()  # Python floats: x ** 2 is numpy's scalar power (libm's pow) too
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
                  abs(total - self._weight) < QS_LOAD * self._weight)
         pts = self._buf[7][:len(sel)]  # the pass's ground points (x, y)
-        cog = d.subtree_com[self.chassis, :2]
+        cog = self._com_xy
         # the footprint: the ground points of the contacts that carried > SUPPORT_LOAD N on the
         # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
         # along its length, but MuJoCo reports a few chattering points of it at any one instant)
-        now = pts[loaded]
+        now = self._buf[10][:n_loaded]  # the loaded contacts' ground points (a view: add copies it)
         self._footprint.add(t, now)
-        self._tip_back(t, now, rg[loaded], cog)
+        self._tip_back(t, now, self._buf[11][:n_loaded], cog)
         # the static margin at quasi-static instants, the margin over every contact at the others
         if quasi:
             foot = self._footprint.points()
@@ -509,15 +585,16 @@ class OctopusTask(TaskBase):
         """
         if self._tipped is not None:
             return
-        ax = self._ax
-        n = math.hypot(float(ax[0]), float(ax[1]))
+        ax, ay, _ = self._ax.tolist()
+        n = math.hypot(ax, ay)
         prev, self._rear_prev = self._rear_prev, (math.nan, False)
         if not len(loaded) or n < 1e-6:
             self._behind = None
             return
         pitch = self.attitude()[1]
-        hx, hy = float(ax[0]) / n, float(ax[1]) / n
-        cs = float(cog[0]) * hx + float(cog[1]) * hy  # the COG along the heading (m)
+        hx, hy = ax / n, ay / n
+        cx, cy = cog.tolist()
+        cs = cx * hx + cy * hy  # the COG along the heading (m)
         along = [x * hx + y * hy for x, y in loaded.tolist()]
         rs = min(along)  # the rearmost loaded contact (m); the first of equals, as np.argmin
         k = along.index(rs)
@@ -546,19 +623,30 @@ class OctopusTask(TaskBase):
     def normal_load(self) -> tuple[float, float]:
         """The robot's normal ground load now and the crawlers' part of it (tracks and flippers)
         (N): the one track-share computation (the stored ``track_share`` column, the walking probe)."""
+        return self._loads()[:2]
+
+    def _loads(self) -> tuple[float, float, int]:
+        """(:meth:`normal_load`, the number of contacts loaded > SUPPORT_LOAD N now); their ground
+        points and robot geoms are then ``self._buf[10][:n]`` and ``self._buf[11][:n]``."""
         sel, rg, f, _ = self._contacts()
-        if not len(sel):
-            return 0.0, 0.0
-        fn = f[:, 0]
-        return float(fn.sum()), float(fn[self._buf[3][:len(sel)] >= 0].sum())  # the pass's crawler sides
+        k = len(sel)
+        if not k:
+            return 0.0, 0.0, 0
+        b = self._buf
+        total, crawlers, c, m = _loads(k, f, b[3], b[7], rg, SUPPORT_LOAD, b[8], b[9], b[10], b[11])
+        if k > PW_BLOCK:  # numpy's own pairwise sum of long sums
+            total, crawlers = float(b[8][:k].sum()), float(b[9][:c].sum())
+        return total, crawlers, m
 
     def _buffers(self, n: int) -> tuple[np.ndarray, ...]:
         """Room for ``n`` contacts: indices, robot geoms, forces, sides, frames, the frames' two
-        tangential rows as (n, 3) views (what numpy's matmul then takes), ground points (x, y)."""
+        tangential rows as (n, 3) views (what numpy's matmul then takes), ground points (x, y);
+        then :func:`_loads`' normal forces, crawler forces, loaded points and their geoms."""
         fr = np.empty((n, 9))
         f3 = fr.reshape(-1, 3, 3)
         return (np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3)), np.empty(n, np.int64), fr,
-                f3[:, 1], f3[:, 2], np.empty((n, 2)))
+                f3[:, 1], f3[:, 2], np.empty((n, 2)),
+                np.empty(n), np.empty(n), np.empty((n, 2)), np.empty(n, np.int64))  # :func:`_loads`' room
 
     def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
         """The contacts now, computed once per instant (apply, the stored row and the last row
@@ -570,7 +658,7 @@ class OctopusTask(TaskBase):
         n = d.ncon
         if n > len(self._buf[0]):
             self._buf = self._buffers(2 * n)
-        sel, rg, f, side, fr, _, _, xy = self._buf
+        sel, rg, f, side, fr, _, _, xy = self._buf[:8]
         c = d.contact
         k, bits, dim3 = _contact_pass(n, c.geom, c.efc_address, c.dim, c.friction, c.frame, c.pos, d.efc_force,
                                       self.ground, self._tip_of, self._side_of, sel, rg, f, side, fr, xy)
@@ -617,13 +705,18 @@ class OctopusTask(TaskBase):
         self._row_k += 1
         m_load, m_all, quasi, share, tpow = self._sample
         # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
-        te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
+        if obs._flat is not None:  # the observation's one buffer: flippers, arms LF, RF, LR, RR, torques
+            b = obs._flat.tolist()
+            qf, rf, rr, te = b[0:4], b[7:10], b[13:16], b[20:24]
+        else:
+            te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
+            rf, rr = qa[1], qa[3]
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
                 0.5 * (qf[0] + qf[1]), 0.5 * (qf[2] + qf[3]),
                 te[0], te[1], te[2], te[3],
-                m_all, quasi, share, tpow, *qa[1], *qa[3], *self._mech)
+                m_all, quasi, share, tpow, *rf, *rr, *self._mech)
 
     def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float]:
         """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
@@ -643,9 +736,9 @@ class OctopusTask(TaskBase):
         footholds held) is read apart from the climb, where the paper does "not try to keep the
         position of the endpoint of arms consistent" (Fig. 9e).
         """
-        d = self.data
-        sensed = stability_margin(d.geom_xpos[self._sensed_geoms[tips], :2], d.subtree_com[self.chassis, :2])
-        tp = d.geom_xpos[self.tip_geoms].tolist()
+        gx = self._geom_xpos
+        sensed = stability_margin(gx[self._sensed_geoms[tips], :2], self._com_xy)
+        tp = gx[self.tip_geoms].tolist()
         st, sm = self._tip_start, self._tip_start_mode
         mode = float(cmd.mode) if cmd is not None else self._mech_mode
         if mode != self._mech_mode:
@@ -677,9 +770,8 @@ class OctopusTask(TaskBase):
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
         force x the commanded track speed)."""
-        d, a, b = self.data, self._pa, self._pb
-        np.abs(d.actuator_force, out=a)
-        np.abs(d.actuator_velocity, out=b)
+        a, b = self._pa, self._pb
+        _abs2(self._act_force, self._act_vel, a, b)  # np.abs of both, one call
         return float(np.dot(a, b)) + self._track_power()
 
     def metrics(self, log) -> dict[str, float]:

@@ -15,7 +15,7 @@ Every mode answers the same protocol (:class:`ModeAction`), and the controller
 
 The wheel modes live here (seed 001 sec. 3, Fig. 5); SWLM / DWLM (:class:`WheelLegged`) run the
 action sequence of :class:`~terrabench.systems.srwmr.legged.LeggedAction`. What a mode may read of the controller is
-public: ``robot``, ``sup``, ``lim``, ``ts``, ``u_prev``, ``period`` (this period's geometry),
+public: ``robot``, ``sup``, ``lim``, ``sc``, ``ts``, ``u_prev``, ``period`` (this period's geometry),
 ``step_start``, ``local(obs)`` and ``closing_rate(obs, vz, target)``; what it may set is
 ``steer_goal`` (steering in place) and ``rolling`` (RCM's rolling set for this period's command).
 """
@@ -28,8 +28,12 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from terrabench.systems.srwmr.constraints import CONSTRAINTS
 from terrabench.systems.srwmr.kinematics import delta_for_clearance
 from terrabench.systems.srwmr.legged import LEGGED, LeggedAction
+
+#: MC#7 (the forward speed's change per period), whose ramp WCM's roll follows along its heading
+_MC7 = next(c for c in CONSTRAINTS if c.name == "MC7")
 
 
 @dataclass(frozen=True)
@@ -216,11 +220,26 @@ class WheelCrabbing(_Mode):
             if done:
                 self.phase = 2
                 return Nominal(np.zeros(5), steer_only=True)
-            wz = max(-0.01, min(0.01, -0.5 * dyaw))
-            if st.dx:
-                c, s_ = math.cos(math.atan2(st.dy, st.dx)), math.sin(math.atan2(st.dy, st.dx))
-                return Nominal(np.array([st.v * c, st.v * s_, wz, 0.0, 0.0]))
-            return Nominal(np.array([0.0, sgn * st.v, wz, 0.0, 0.0]))
+            if not st.dx:
+                wz = max(-0.01, min(0.01, -0.5 * dyaw))
+                return Nominal(np.array([0.0, sgn * st.v, wz, 0.0, 0.0]))
+            # an oblique crab rolls along the wheels' heading as WRM rolls along its own ("WRM is
+            # utilized as the action (2) of WCM" [S sec. 3, the control-process figure's caption]):
+            # its speed along that heading ramps as MC#7 ramps WRM's forward speed, so the commanded
+            # direction stays the steered one (the QP's MC#7 row bounds vx only: vy at full speed from
+            # the first period with vx ramping swung the commanded heading from 34 to 90 deg, the IK
+            # re-steered every wheel in the soil at once and T9 halted on MC#11 30 ms later). A
+            # sideways crab (dx = 0) has vx = 0 and no such swing.
+            a = math.atan2(st.dy, st.dx)
+            c, s_ = math.cos(a), math.sin(a)
+            along = abs(float(ctl.u_prev[0] * c + ctl.u_prev[1] * s_))
+            speed = min(abs(st.v), along + _MC7.kappa(st.mode) * max(along, ctl.sc.v_floor))
+            # the heading hold's curvature stays below 0.5 /m, as WRM's (no steering swing while the
+            # speed ramps up: a 0.003 rad/s correction against 0.05 mm/s would steer every wheel onto a
+            # turn in place)
+            lim = min(0.01, 0.5 * speed)
+            wz = max(-lim, min(lim, -0.5 * dyaw))
+            return Nominal(np.array([speed * c, speed * s_, wz, 0.0, 0.0]))
         ctl.steer_goal = np.zeros(6)
         if np.max(np.abs(obs.mu)) < ctl.sup.steer_tol:
             ctl.steer_goal = None

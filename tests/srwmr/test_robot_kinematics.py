@@ -97,6 +97,15 @@ def test_crab_and_turn_in_place_angles():
 
 def test_lift_heights():
     assert kin.lift_height(CFG, "front", 0.0) == pytest.approx(0.0, abs=1e-12)
+    # no change of the closing angle is no lift, from any start posture (the 500 mm clearance's
+    # start had read 11 mm for the front wheel and tripled the lift's lever)
+    for clearance in (0.25, 0.35, 0.5):
+        d0 = float(kin.delta_for_clearance(CFG, clearance))
+        for which in ("front", "middle", "rear"):
+            assert kin.lift_height(CFG, which, 0.0, d0) == pytest.approx(0.0, abs=1e-12)
+        # the rise is smooth through the start: the lever from one side equals the other's
+        up, down = (kin.lift_height(CFG, "front", s * 1e-3, d0) / (s * 1e-3) for s in (-1, 1))
+        assert up == pytest.approx(down, rel=0.02)
     assert kin.lift_height(CFG, "front", -0.2) > 0.1
     assert kin.lift_height(CFG, "middle", 0.2) > 0.05
     assert kin.lift_height(CFG, "rear", -0.2) > 0.1

@@ -421,15 +421,23 @@ def lift_height(cfg: RobotConfig, which: str, d_delta: float, delta0: float = 0.
     if which not in idx:
         raise ValueError(f"which={which!r} is unknown; valid: front, middle, rear")
     zeta0 = float(level_zeta(cfg, [delta0, delta0])[0])
-    # with the clutch engaged the bogie keeps its angle relative to the rear section
-    pts = _side_profile(cfg, delta0 + d_delta, zeta0)
     ground = [i for i in range(3) if i != idx[which]]
-    a, b = pts[ground[0]], pts[ground[1]]
-    # rigid motion (rotation in the side plane) putting both grounded axles at one height
-    ang = math.atan2(b[1] - a[1], b[0] - a[0])
-    ang0 = 0.0 if b[0] > a[0] else math.pi
-    rot = ang0 - ang
-    c, s = math.cos(rot), math.sin(rot)
-    rel = pts - a
-    zs = rel[:, 0] * s + rel[:, 1] * c
-    return float(zs[idx[which]] - zs[ground[0]])
+
+    def above(delta: float) -> float:
+        # with the clutch engaged the bogie keeps its angle relative to the rear section
+        pts = _side_profile(cfg, delta, zeta0)
+        a, b = pts[ground[0]], pts[ground[1]]
+        # rigid motion (rotation in the side plane) putting both grounded axles at one height
+        ang = math.atan2(b[1] - a[1], b[0] - a[0])
+        ang0 = 0.0 if b[0] > a[0] else math.pi
+        rot = ang0 - ang
+        c, s = math.cos(rot), math.sin(rot)
+        rel = pts - a
+        zs = rel[:, 0] * s + rel[:, 1] * c
+        return float(zs[idx[which]] - zs[ground[0]])
+
+    # the rise from the start: away from the fully open hinge the three axles of the start posture
+    # are not level (the wheel stands 11 mm over the other two at the 500 mm clearance's closing
+    # angle), and that standing offset is no lift (it had tripled the lever, so the legged lifts ran
+    # at a third of their 7 mm/s)
+    return above(delta0 + d_delta) - above(delta0)

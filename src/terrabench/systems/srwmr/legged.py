@@ -167,6 +167,7 @@ class LeggedAction:
         self.z_off = None
         self.d_lift0 = None
         self.best = (-1.0, obs.t)
+        self.light_t: float | None = None
         self.touch_t = None
         self.rate = LIFT_SPEED
         #: set when the roll began with the lift below DRIVE_SHARE of its target: the step's
@@ -217,6 +218,7 @@ class LeggedAction:
                 lever = abs(lift_height(robot, self.pos, 0.01 * LIFT_SIGN[self.pos], d0)) / 0.01
                 self.rate = min(LIFT_SPEED / max(lever, 0.2), ctl.lim.rate_max)
                 self.best = (-1.0, obs.t)
+                self.light_t = None  # since when the DWLM reference wheels read unloaded (None: not now)
                 self.advance(obs, f"clutch engaged on side(s) {'+'.join('LR'[s] for s in self.sides)}")
             return u, False
         if name == "lift":
@@ -236,7 +238,11 @@ class LeggedAction:
             refs = [j for j in range(6) if j not in self.idx and WHEEL_POS[j] != self.pos]
             w_nom = robot.total_mass * 9.81 / 6
             light = st.mode == "DWLM" and float(np.min(np.asarray(obs.load)[refs])) < REF_SHARE * w_nom
-            unloaded = light  # at once: past that moment the reference line tips with the lifted end
+            # held for SETTLE_S, as a touch-down's load is: one F/T sample reads +-100 N off the soil's
+            # load (T12 lift100 DWLM: the rear-left read 30 N while it carried 157 N, and the lift
+            # stopped 0.5 mm up)
+            self.light_t = (self.light_t if self.light_t is not None else obs.t) if light else None
+            unloaded = self.light_t is not None and obs.t - self.light_t >= SETTLE_S
             if at_end or unloaded or obs.t - self.best[1] > 20.0:
                 why = ("rocker range end" if at_end else
                        "the reference wheels unloaded: the sides balance on one wheel each" if unloaded else

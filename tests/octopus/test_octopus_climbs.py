@@ -196,6 +196,22 @@ def test_clm_rides_over_the_block():
     assert r.metrics["tracks_stopped_share"] < 0.2
 
 
+
+def test_a_case_1_foothold_out_of_range_lifts_clear_and_the_crawlers_drive_on():
+    """block-500 seed 1: the RR arm's target lies beside the block's face, out of the arm's reach
+    from above the 0.5 m top, so every transfer stops on the top (arm stop case 1, 0.26 m outward,
+    0.78 m from the mount) and its foothold leaves the range after a few cm. Waiting for it
+    (``blocked_clear`` off) stops the crawlers during the other arms' transfers; lifting it clear
+    lets them drive on: fewer stopped ticks, an earlier pass, the same outcome."""
+    on = _run("clm", "block-500", 1)
+    off = _run("clm", "block-500", 1, **{"clm.blocked_clear": False})
+    assert on.status == off.status == "success"
+    cleared = [e for e in _events(on) if "case-1 foothold out of range: lifted clear" in e[3]]
+    assert cleared and all(e[1].endswith(".support") for e in cleared)
+    assert not any("case-1 foothold" in e[3] for e in _events(off))
+    assert on.metrics["tracks_stopped_share"] < 0.5 * off.metrics["tracks_stopped_share"]
+    assert on.metrics["sim_time"] < off.metrics["sim_time"]
+
 @pytest.mark.slow
 def test_clm_does_not_walk_itself_over_a_riser_beyond_its_reach():
     """550 mm (beyond the arms): without the walk's pitch guard CLM turned over here (77.8 s)."""

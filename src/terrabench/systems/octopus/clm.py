@@ -94,6 +94,7 @@ class CLMController(MachineController):
         self.flip_prev, self.flip_still = 0.0, 0.0  # the front flipper angle and how long it has held (s)
         self.guarding = False  # the walk's pitch guard is backing the crawlers off
         self.caster = [False] * 4  # landed beyond its range: rolls with the body until its turn
+        self.stop_case = [""] * 4  # each arm's last arm stop case (rules.arm_stop_case)
         self.queue: list[str] = list(ARMS)  # place all four arms first (init)
         self.next_gait = 0
         self.pause_until = 0.0
@@ -304,6 +305,7 @@ class CLMController(MachineController):
         self.landing[i], self.contact[i] = False, True
         self.tau_ref[i] = obs.tau_elbow[i]
         case = arm_stop_case(self.tip_r[i], self.targets[k], cfg.d_c, cfg.d_d)
+        self.stop_case[i] = case
         self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
         if case == "reached":
             self.extra_lift[i] = 0.0
@@ -346,6 +348,19 @@ class CLMController(MachineController):
                 f[0] -= dx
             f[2] = tip_z[i] - press
             self.cmd.arm[i] = ak.ik_f(f[0], f[1], f[2], self._ikc[i])
+            if beyond and not self.caster[i] and cfg.blocked_clear and self.stop_case[i] == "blocked":
+                # case 1 (an obstacle between the arm and its target): the same transfer stops at the
+                # same obstacle, so waiting for it stops the crawlers every few cm; the arm lifts
+                # clear (no support, no drag) and is transferred next while the crawlers drive on
+                self.contact[i] = False
+                self.cmd.arm[i] = np.array([obs.q_arm[i][0], cfg.arm_ab, ELBOW_LIFT])
+                if k in self.queue:
+                    self.queue.remove(k)
+                self.queue.insert(0, k)
+                self.queue_reason[k] = "lifted clear after a case-1 foothold: transferred next"
+                self._arm_event(obs.t, k, SUPPORT, TRANSFER, "case-1 foothold out of range: lifted clear, "
+                                "the crawlers go on")
+                continue
             if beyond and not self.caster[i]:
                 out = True
                 self.out_arm = k

@@ -81,6 +81,14 @@ class CLMConfig:
                                   "(0 = off: it presses down at the servo's pace until it settles, 1-3.7 s for the "
                                   "10 of 23 false landings of block-500 seed 0); d_d, the arm stop case's height "
                                   "threshold (docs/octopus.md, 'Tracks stopped')")
+    blocked_clear: bool = param(True,
+                                doc="an arm whose last landing was arm stop case 1 (an obstacle between the arm and "
+                                    "its target: the tip stopped > d_c from it in x) and whose foothold then leaves its "
+                                    "range lifts clear and is transferred next while the crawlers drive on (the same "
+                                    "transfer would stop at the same obstacle, out of range again after a few cm: "
+                                    "block-500 seed 1, RR on the block's top 0.78 m from its mount, the crawlers "
+                                    "waiting 2 s of every 3.4 s); False: the crawlers wait for it like any "
+                                    "out-of-range arm (docs/octopus.md, 'Case-1 footholds')")
     tau_filter: float = param(0.15, ge=0, le=1,
                               doc="per-tick weight of the elbow torque in its free-motion reference while lowering "
                                   "(a contact is a jump of contact_torque above it)")

@@ -81,14 +81,13 @@ class CLMConfig:
                                   "(0 = off: it presses down at the servo's pace until it settles, 1-3.7 s for the "
                                   "10 of 23 false landings of block-500 seed 0); d_d, the arm stop case's height "
                                   "threshold (docs/octopus.md, 'Tracks stopped')")
-    blocked_clear: bool = param(True,
-                                doc="an arm whose last landing was arm stop case 1 (an obstacle between the arm and "
-                                    "its target: the tip stopped > d_c from it in x) and whose foothold then leaves its "
-                                    "range lifts clear and is transferred next while the crawlers drive on (the same "
-                                    "transfer would stop at the same obstacle, out of range again after a few cm: "
-                                    "block-500 seed 1, RR on the block's top 0.78 m from its mount, the crawlers "
-                                    "waiting 2 s of every 3.4 s); False: the crawlers wait for it like any "
-                                    "out-of-range arm (docs/octopus.md, 'Case-1 footholds')")
+    blocked_clear: bool = param(True, doc=(
+        "an arm whose last landing was arm stop case 1 (an obstacle between the arm and its target: the tip "
+        "stopped > d_c from it in x) and whose foothold then leaves its range lifts clear and is transferred "
+        "next while the crawlers drive on (the same transfer would stop at the same obstacle, out of range "
+        "again after a few cm: block-500 seed 1, RR on the block's top 0.78 m from its mount, the crawlers "
+        "waiting 2 s of every 3.4 s); False: the crawlers wait for it like any out-of-range arm "
+        "(docs/octopus.md, 'Case-1 footholds')"))
     tau_filter: float = param(0.15, ge=0, le=1,
                               doc="per-tick weight of the elbow torque in its free-motion reference while lowering "
                                   "(a contact is a jump of contact_torque above it)")
@@ -126,8 +125,8 @@ class CLMConfig:
                                doc="flipper step of the release, up to 0: quasi-static (0.5 rad/s), where eq. 29's "
                                    "dF would drop the body in 0.7 s")
     release_tilt: float = param(0.08, gt=0, unit="rad",
-                                doc="the nose rising this much since the release began means the COG is not over "
-                                    "the top yet: the climb resumes (max_resumes) and drives release_more further")
+                                doc="the nose rising this much since the release began: the climb resumes and drives "
+                                    "release_more further, at most max_resumes times (0 by default: the walk goes on)")
     release_more: float = param(0.15, ge=0, unit="m",
                                 doc="a resumed climb drives this much further (travel S) before it releases again")
     pit_depth: float = param(0.45, gt=0, unit="m",
@@ -187,12 +186,16 @@ class CLMConfig:
                                doc="the nose pitched up this much (IMU) with an up-step sensed (four tips down) also "
                                    "starts a climb: the crawlers are mounting an edge with the rear below it, as on "
                                    "the next terrace after a release; the lift then raises the rear first (pitch_cap)")
-    max_resumes: int = param(3, ge=0,
+    max_resumes: int = param(0, ge=0,
                              doc="releases of one climb that may go back to climbing when the nose rises "
                                  "(release_tilt); after them the release walks on, and the walk's triggers "
                                  "(mount_pitch) start a fresh climb with H_EST re-estimated from the four tips (the "
-                                 "next terrace); with 0 the 450 mm sweep step fails 2/3 (its four-tip case is past "
-                                 "sigma2, so no walk trigger), with 3 it climbs 3/3")
+                                 "next terrace). 0 (since 2026-12-05): on a short tread the nose rising in the release "
+                                 "is the crawlers mounting the next riser, and the resumed climb lifted every arm "
+                                 "clear (footholds out of range) and teetered over the first edge; 20 seeds: terrace "
+                                 "margin -0.011 -> +0.024 m (front), -0.014 -> +0.018 m (side), 80/80 either way; "
+                                 "the sweep and rough trials are bitwise the same (no resume fires there); 3 = the "
+                                 "earlier default (docs/octopus.md, 'Terraces without resumes')")
     stall_time: float = param(3.0, gt=0, unit="s",
                               doc="a climb with every arm lifted clear, past its release distance, whose pitch has "
                                   "held within 0.02 rad this long is stalled (the crawlers slip: 0.18 m of track "

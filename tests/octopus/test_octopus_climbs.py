@@ -148,8 +148,8 @@ def test_clm_climbs_the_terraces_one_by_one():
     """terrace2-front: terrace by terrace, H_EST estimated from the four tips: the first climb is
     for the lower terrace (0.2 m) and ends on it; the 0.2 m second riser, below the flippers'
     250 mm ("OCTOPUS can climb the step which height is lower than 250 mm ... without using arms"),
-    is mounted by the walk's crawlers and flippers or by a second climb (19 of 20 seeds mount it
-    walking since the walk keeps its tracks running); the robot is on the 0.4 m top at the end."""
+    is mounted by the walk's crawlers and flippers or by a second climb (6 of 20 seeds walking, 14
+    by a second climb, since the climbs are not resumed); the robot is on the 0.4 m top at the end."""
     r = _run("clm", "terrace2-front")
     assert r.status == "success"
     climbs = [e for e in _mode_events(r, "climb") if e[1] == "walk"]   # fresh climbs, not resumed ones
@@ -196,6 +196,19 @@ def test_clm_rides_over_the_block():
     assert r.metrics["tracks_stopped_share"] < 0.2
 
 
+
+def test_the_terraces_are_climbed_one_by_one_without_a_resumed_climb_on_lifted_arms():
+    """terrace2-front seed 0: with resumes (the earlier default, 3) the release's nose rise on the
+    short tread resumes the climb, every arm lifts clear and the robot teeters over the first edge
+    on its tracks alone (static margin < 0); without (the default) the walk re-places the arms and
+    mounts the second riser (or a fresh climb does), and the static margin stays positive."""
+    fresh = _run("clm", "terrace2-front", 0)
+    resumed = _run("clm", "terrace2-front", 0, **{"clm.max_resumes": 3})
+    assert fresh.status == resumed.status == "success"
+    assert not any(e[1] == "release" and e[2] == "climb" for e in _events(fresh))
+    assert any(e[1] == "release" and e[2] == "climb" for e in _events(resumed))
+    assert [e for e in _mode_events(fresh, "climb") if e[1] == "walk"]   # fresh climbs only
+    assert resumed.metrics["margin_min_m"] < 0.0 < fresh.metrics["margin_min_m"]
 
 def test_a_case_1_foothold_out_of_range_lifts_clear_and_the_crawlers_drive_on():
     """block-500 seed 1: the RR arm's target lies beside the block's face, out of the arm's reach

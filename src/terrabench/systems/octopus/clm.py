@@ -139,6 +139,13 @@ class CLMController(MachineController):
         """Every arm a support: all four tips in contact and none in transfer."""
         return not any(self.phase.values()) and all(self.contact)
 
+    def _lift_clear(self, obs, i: int, k: str, reason: str) -> None:
+        """Arm ``i`` off the ground: no longer a support, its boom to A_B and its elbow up about its
+        present swing (the pose is set once; :meth:`_lead` then holds it within ``max_lead``)."""
+        self.contact[i] = False
+        self.cmd.arm[i] = np.array([obs.q_arm[i][0], self.cfg.arm_ab, ELBOW_LIFT])
+        self._arm_event(obs.t, k, SUPPORT, TRANSFER, reason)
+
     def _lead(self, obs) -> None:
         """The arm command kept within ``max_lead`` of the encoders."""
         _within(self.cmd.arm, obs.q_arm, self.cfg.max_lead)
@@ -352,14 +359,11 @@ class CLMController(MachineController):
                 # case 1 (an obstacle between the arm and its target): the same transfer stops at the
                 # same obstacle, so waiting for it stops the crawlers every few cm; the arm lifts
                 # clear (no support, no drag) and is transferred next while the crawlers drive on
-                self.contact[i] = False
-                self.cmd.arm[i] = np.array([obs.q_arm[i][0], cfg.arm_ab, ELBOW_LIFT])
+                self._lift_clear(obs, i, k, "case-1 foothold out of range: lifted clear, the crawlers go on")
                 if k in self.queue:
                     self.queue.remove(k)
                 self.queue.insert(0, k)
                 self.queue_reason[k] = "lifted clear after a case-1 foothold: transferred next"
-                self._arm_event(obs.t, k, SUPPORT, TRANSFER, "case-1 foothold out of range: lifted clear, "
-                                "the crawlers go on")
                 continue
             if beyond and not self.caster[i]:
                 out = True
@@ -542,10 +546,7 @@ class CLMController(MachineController):
                 # for 2.4 s). Re-issuing the pose every tick keeps the crawlers loaded but the nose
                 # then rises to guard_pitch and the terraces fail 0/5 (docs/octopus.md, "Load share")
                 self.lifted[i] = True
-                self.contact[i] = False
-                q = obs.q_arm[i]
-                c.arm[i] = np.array([q[0], cfg.arm_ab, ELBOW_LIFT])
-                self._arm_event(obs.t, k, SUPPORT, TRANSFER, "climb: foothold out of range, lifted clear")
+                self._lift_clear(obs, i, k, "climb: foothold out of range, lifted clear")
                 continue
             c.arm[i] = ak.ik_f(tx, ty, tz, self._ikc[i])
         # flippers, eq. 29 (A' - dF) with a torque-limited lead

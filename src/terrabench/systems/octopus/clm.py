@@ -639,6 +639,17 @@ class CLMController(MachineController):
                            f"{cfg.release_tilt} while releasing: drive {cfg.release_more} m more")
                 return
             for i in range(4):
+                if (cfg.release_unload and cfg.nose_climb and i < 2 and not self.lifted[i]
+                        and self.contact[i]):
+                    # a front support on the top unloads at lift_dz a tick (the front crawlers settle
+                    # onto the top) and, its target up at the sensed tip (no press left), lifts clear
+                    t = self.lift_tgt[i]
+                    t[2] += cfg.lift_dz
+                    if t[2] >= self.tip_z[i]:
+                        self.lifted[i] = True
+                        self._lift_clear(obs, i, ARMS[i], "release: unloaded, lifted clear")
+                    else:
+                        c.arm[i] = ak.ik_f(*t.tolist(), self._ikc[i])
                 if c.arm[i, 1] > cfg.release_boom:
                     c.arm[i, 1] = max(c.arm[i, 1] - cfg.release_d_e, cfg.release_boom)
             for f in range(4):

@@ -245,6 +245,13 @@ class CLMConfig:
                                     "only after H > H_EST and S > L (Fig. 9f-h). False: they unload and lift clear "
                                     "as soon as the front is over (the default before 2026-12-05; the robot then "
                                     "teetered on the edge on its tracks and the rear tips, static margin ~0.02 m)")
+    release_unload: bool = param(True,
+                                 doc="nose climb, the release (Fig. 9f-h: 'the flippers and arms will be "
+                                     "released'): a front arm still a support on the top unloads (its target rises "
+                                     "by lift_dz a tick) and lifts clear once the target is up at its sensed tip, so "
+                                     "the front crawlers settle onto the top. False (before 2026-12-05): it kept its "
+                                     "climb press through the release and held the nose up on a tripod with the "
+                                     "edge (terrace2-front seed 2: pitch 0.06 rad, static margin -0.022 m)")
     roll_level: float = param(0.05, ge=0, le=1.0, unit="1/tick",
                               doc="nose climb, the rear lift (eq. 28): each rear tip's target rises by roll_level x "
                                   "IMU roll x its y in {R} a tick, an integral roll levelling (the arm on the raised "

@@ -393,7 +393,10 @@ class CLMController(MachineController):
         self.lifting = np.ones(4, bool) if not resume else np.zeros(4, bool)
         self.lifting[2:] = False  # only the front booms lift (the rear arms press)
         if not resume:
-            self.pitch0 = obs.pitch  # the pitch of the ground the crawlers drive on
+            # the pitch of the ground the crawlers drive on: the IMU's, but for a climb the nose-up
+            # trigger started (the crawlers already up an edge, the body is not on its ground)
+            mounted = self.cfg.mount_level and obs.pitch > self.cfg.mount_pitch
+            self.pitch0 = 0.0 if mounted else obs.pitch
         self.prev_pitch = obs.pitch
         self.still_pitch, self.still_t = obs.pitch, 0.0  # the stall test's reference pitch and time (s)
         self.over = resume
@@ -421,7 +424,8 @@ class CLMController(MachineController):
         they unload at ``lift_dz`` a tick to a ``climb_press`` press and lift clear. Rear arms: a
         bounded press (``climb_press`` below the sensed tip, z turned about the rear ground contact,
         :meth:`_rear_pivot`) until ``over``, then they lift the rear (eq. 28) until H exceeds H_EST
-        by ``lift_margin`` or the body is back at its pitch before the climb; an arm whose foothold
+        by ``lift_margin`` or the body is back at its pitch before the climb (level, for a climb
+        the nose-up trigger started: ``mount_level``); an arm whose foothold
         leaves its range lifts clear (A_B). Footholds move by the crawler travel (eqs. 22-27) only
         once the rear is up (``up``, latched: H within ``lift_margin`` of H_EST, or the front over
         and the body level); before that the crawlers push on the riser and odometry would count

@@ -245,6 +245,14 @@ class CLMConfig:
                                     "only after H > H_EST and S > L (Fig. 9f-h). False: they unload and lift clear "
                                     "as soon as the front is over (the default before 2026-12-05; the robot then "
                                     "teetered on the edge on its tracks and the rear tips, static margin ~0.02 m)")
+    mount_level: bool = param(True,
+                              doc="nose climb started by the nose-up trigger (mount_pitch; the next terrace after a "
+                                  "release): the ground the crawlers drive on is taken as level (pitch0 = 0) for the "
+                                  "rear lift's stop, the 'rear up' latch and the travel direction; the IMU pitch at "
+                                  "that start is the edge's, not the ground's. False (before 2026-12-05): the IMU "
+                                  "pitch (~0.46 rad), which latched the rear 'up' at once and stopped the rear lift "
+                                  "while the nose was still up (terrace2-front seed 8: released at 0.35 rad, the rear "
+                                  "dropping onto the edge)")
     release_unload: bool = param(True,
                                  doc="nose climb, the release (Fig. 9f-h: 'the flippers and arms will be "
                                      "released'): a front arm still a support on the top unloads (its target rises "

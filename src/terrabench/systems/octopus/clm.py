@@ -387,16 +387,16 @@ class CLMController(MachineController):
         z0, z1 = self.tip_c[:2, 2].tolist()
         return (z0 + z1) / 2
 
-    def _nose_start(self, obs, resume: bool = False) -> None:
-        """State of a (fresh or resumed) nose climb: every arm a support, none lifted clear."""
+    def _nose_start(self, obs, resume: bool = False, mounted: bool = False) -> None:
+        """State of a (fresh or resumed) nose climb: every arm a support, none lifted clear.
+        ``mounted``: the walk's nose-up trigger started it (the crawlers already up an edge)."""
         self.lifted = np.zeros(4, bool)
         self.lifting = np.ones(4, bool) if not resume else np.zeros(4, bool)
         self.lifting[2:] = False  # only the front booms lift (the rear arms press)
         if not resume:
-            # the pitch of the ground the crawlers drive on: the IMU's, but for a climb the nose-up
-            # trigger started (the crawlers already up an edge, the body is not on its ground)
-            mounted = self.cfg.mount_level and obs.pitch > self.cfg.mount_pitch
-            self.pitch0 = 0.0 if mounted else obs.pitch
+            # the pitch of the ground the crawlers drive on: the IMU's, but level for a mounted
+            # start (the body is up an edge, not on its ground: mount_level)
+            self.pitch0 = 0.0 if (mounted and self.cfg.mount_level) else obs.pitch
         self.prev_pitch = obs.pitch
         self.still_pitch, self.still_t = obs.pitch, 0.0  # the stall test's reference pitch and time (s)
         self.over = resume
@@ -765,7 +765,7 @@ class CLMController(MachineController):
                 self.h_est = min(z[0], z[1]) - 0.5 * (z[2] + z[3])
                 self.s, self.s_release, self.resumes = 0.0, cfg.climb_distance, 0
                 self.lift_tgt = np.array([ak.fk(obs.q_arm[i], self.robot, k) for i, k in enumerate(ARMS)])
-                self._nose_start(obs)
+                self._nose_start(obs, mounted=mounting)
                 why = ("front flippers at the limit" if at_limit else
                        f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
                        f"nose up {obs.pitch:.2f} rad")

@@ -47,8 +47,8 @@ def test_the_benchmark_controller_through_the_env_gives_the_benchmark_metrics():
     # figures over the controller's modes (climb rows, walking rows) and the tip slip (the arm in
     # transfer is no support) need its state codes,
     # which an action does not carry
-    by_mode = {"tracks_stopped_share", "crawler_load_share_min", "tip_slip_max_m", "tip_slip_walk_max_m",
-               "tip_slip_climb_max_m"}
+    by_mode = {"tracks_stopped_share", "walk_speed_mean_mps", "crawler_load_share_min", "tip_slip_max_m",
+               "tip_slip_walk_max_m", "tip_slip_climb_max_m"}
     for k in ref.metrics.keys() - by_mode:
         a, b = got.metrics[k], ref.metrics[k]
         assert (math.isnan(a) and math.isnan(b)) or a == b, k

@@ -142,6 +142,13 @@ class CLMConfig:
                        doc="arm stop threshold dD (z): a landed tip more than this above its target is on top of an "
                            "obstacle (case 2), more than this below it in a pit (case 3)")
     gait_pause: float = param(0.4, ge=0, unit="s", doc="support time between two transfers")
+    gait_pace: bool = param(True,
+                            doc="the walk's crawlers slow (never beyond track_speed) so that no foothold leaves "
+                                "its range before its arm's turn, the turns paced by the last four transfers as "
+                                "the controller timed them (:meth:`.clm.CLMController._pace`); False: "
+                                "track_speed, the crawlers stopping while a foothold is out of range [R: the "
+                                "paper keeps the crawler speed fixed and low; slower where the arms need it, "
+                                "issue 28 piece 3]")
     d_f: float = param(0.0873, gt=0, unit="rad/tick",
                        doc="flipper step dF of eq. 29 while climbing (down, limited by flip_lead and flip_min); the "
                            "lift moves tip targets, not booms, so eq. 28's dE has no field; the release steps are "

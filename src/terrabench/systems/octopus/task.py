@@ -814,7 +814,9 @@ class OctopusTask(TaskBase):
         ``tip_slip_climb_max_m`` (the same within one support phase and controller mode: CLM's walk,
         its climb and release; NaN where there is none), ``tracks_stopped_share``
         (share of CLM walking rows with the crawlers commanded < 1 mm/s; NaN for CCM, which has
-        no walk), ``margin_min_m`` (the static margin, as ``min_margin``) and
+        no walk), ``walk_speed_mean_mps`` (the crawlers' mean commanded speed over those rows: a
+        walk slowed for its arms, ``clm.gait_pace``, reads here), ``margin_min_m`` (the static
+        margin, as ``min_margin``) and
         ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`)."""
         from terrabench.systems.octopus import ccm, clm
 
@@ -834,6 +836,7 @@ class OctopusTask(TaskBase):
             "tip_slip_walk_max_m": fin(slip_mode[walk], np.max),
             "tip_slip_climb_max_m": fin(slip_mode[in_climb], np.max),
             "tracks_stopped_share": float(np.mean(vcmd[walk] < 1e-3)) if walk.any() else nan,
+            "walk_speed_mean_mps": fin(vcmd[walk], np.mean) if walk.any() else nan,
             "margin_min_m": fin(m_static, np.min),
             "margin_sensed_min_m": fin(sensed, np.min),
         }

@@ -69,3 +69,27 @@ def test_clip_events_read_the_stored_controller_events():
     ccm = [[6.2, "approach", "press", "riser"], [29.2, "push", "abort", "pitch"]]
     ev = SYSTEM.clip_events({"info": {"events": ccm, "tip_back": {"t": 29.0}}, "metrics": {"sim_time": 29.2}}, {})
     assert ev == {"start": 0.0, "end": 29.2, "press": 6.2, "abort": 29.2, "tipped_back": 29.0}
+
+
+def test_release_points_read_the_position_and_the_tip_back_after_it():
+    """Each stored climb -> release: where the chassis was along the axis and how far the pitch
+    rose within RELEASE_WATCH s after it (a robot tipping back over the edge rises; one released
+    over the top does not); other transitions and rows before the release are not read."""
+    import numpy as np
+
+    from terrabench.systems.octopus.report import RELEASE_WATCH, release_points
+
+    t = np.round(np.arange(0.0, 20.0, 0.1), 10)
+    s = np.minimum(0.05 * t - 0.5, 0.1)
+    pitch = np.zeros(len(t))
+    pitch[(t > 4.0) & (t < 5.0)] = 0.9  # before the release: not read
+    pitch[(t >= 10.0) & (t <= 10.0 + RELEASE_WATCH)] = np.linspace(0.0, 0.4, int(RELEASE_WATCH / 0.1) + 1)
+    pitch[t > 10.0 + RELEASE_WATCH + 0.5] = 0.8  # after the watch: not read
+    events = [[9.0, "walk", "climb", "up-step"], [10.0, "climb", "release", "S > L"],
+              [11.0, "release", "walk", "released"], [15.0, "climb", "release", "S > L"]]
+    pts = release_points(events, {"t": t, "s": s, "pitch": pitch})
+    assert len(pts) == 2
+    (t1, s1, d1), (t2, s2, d2) = pts
+    assert t1 == 10.0 and s1 == pytest.approx(0.0) and d1 == pytest.approx(0.4)
+    assert t2 == 15.0 and s2 == pytest.approx(0.1) and d2 == pytest.approx(0.0)
+    assert release_points(events, {}) == []

@@ -175,6 +175,48 @@ def climb_share(ts: dict[str, np.ndarray], method: str) -> dict[str, float]:
     return {"share_min_quasi": float(share[qs].min()) if qs.any() else nan, "crawler_free_s": longest}
 
 
+#: seconds after a release over which the pitch is watched for a tip-back (:func:`release_points`)
+RELEASE_WATCH = 2.5
+#: a release is counted against the last edge less than this far ahead of the chassis (m): the
+#: chassis stands at most the front's reach (~0.5 m, pulley and level flippers) behind an edge it
+#: climbed; the report's grouping only
+RELEASE_REACH = 0.25
+
+
+def release_points(events: list, ts: dict[str, np.ndarray]) -> list[tuple[float, float, float]]:
+    """Each CLM release (a stored climb -> release transition) as (t s, the chassis' position
+    along the approach axis then m (the first edge at 0), the pitch rise within
+    :data:`RELEASE_WATCH` s after it rad): a release with the COG still behind the edge it
+    climbed tips the robot back over that edge (docs/octopus.md, "The terrace release comes with
+    the COG behind the edge"). Evaluation only: the position is the simulator's."""
+    if not ts or "s" not in ts:
+        return []
+    t, s, pitch = ts["t"], ts["s"], ts["pitch"]
+    out = []
+    for e in events:
+        if e[1] == "climb" and e[2] == "release":
+            i = min(int(np.searchsorted(t, float(e[0]))), len(t) - 1)
+            j = int(np.searchsorted(t, float(e[0]) + RELEASE_WATCH, side="right"))
+            out.append((float(t[i]), float(s[i]), float(np.nanmax(pitch[i:max(j, i + 1)]) - pitch[i])))
+    return out
+
+
+def _release_figure(plt, pts: dict[str, list[tuple[float, float, float]]], edges: dict[str, tuple[float, ...]]):
+    """Release position against the tip-back that follows, per task (:func:`release_points`)."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for n, (task, p) in enumerate(pts.items()):
+        if p:
+            ax.plot([x for _, x, _ in p], [d for _, _, d in p], "o^sv"[n % 4], alpha=0.7, label=task)
+    for x in sorted({x for e in edges.values() for x in e}):
+        ax.axvline(x, color="0.5", lw=0.8, ls="--")
+    ax.set_xlabel("chassis position along the approach axis at the release m (edges dashed)")
+    ax.set_ylabel(f"pitch rise within {RELEASE_WATCH:g} s rad")
+    ax.set_title("CLM releases: where, and whether the robot tipped back over the edge")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
 def mechanism_lines(g, order, share: dict[str, dict[str, float]] | None = None) -> list[dict[str, Any]]:
     """Per task and mode: the median over the trials of each :data:`MECHANISM` figure, with its
     range (the trials' min-max), from the stored metrics; with ``share`` (trial key ->
@@ -369,6 +411,7 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
         share = {r["key"]: climb_share(store.timeseries(r["key"]), r["method"]) for rs in g.values() for r in rs}
         mech = mechanism_lines(g, order, share)
         page.table(mech, list(mech[0]) if mech else ["task"], csv_name="mechanism.csv")
+        _releases(page, plt, store, g, order, {v.id for v in variants if v.is_default})
     for key in sorted(g, key=_key_order(order)):
         rs = sorted(g[key], key=lambda r: r["seed"])
         r0 = rs[0]
@@ -426,6 +469,42 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
     return page.finish()
+
+
+def _releases(page: Any, plt, store, g, order, default_ids: set[str]) -> None:
+    """The releases of the default CLM climbs on the step and terrace tasks: a figure and a table
+    (releases.csv) of where each came and how far the pitch rose after it."""
+    pts: dict[str, list[tuple[float, float, float]]] = {}
+    edges: dict[str, tuple[float, ...]] = {}
+    lines = []
+    for key in sorted(g, key=_key_order(order)):
+        rs = g[key]
+        if key[0] not in TASK_ORDER[:3] or rs[0]["method"] != "clm" or rs[0].get("variant") not in default_ids:
+            continue
+        p = [x for r in rs for x in release_points(r["info"].get("events", []), store.timeseries(r["key"]))]
+        pts[key[0]] = p
+        tread = rs[0]["config"].get("scene", {}).get("terrace_tread")
+        edges[key[0]] = (0.0,) if key[0] == "step-400" or tread is None else (0.0, float(tread))
+        # each release against the edge it climbed: the last edge less than RELEASE_REACH ahead
+        for k, edge in enumerate(edges[key[0]]):
+            sel = [x for x in p if edge == max((e for e in edges[key[0]] if e < x[1] + RELEASE_REACH), default=0.0)]
+            if sel:
+                xs, ds = np.array([x[1] - edge for x in sel]), np.array([x[2] for x in sel])
+                lines.append({"task": key[0], "edge": f"{k + 1} (at {edge:.2f} m)", "releases": len(sel),
+                              "chassis past the edge m": f"{np.median(xs):+.3f} ({xs.min():+.3f} to {xs.max():+.3f})",
+                              f"pitch rise within {RELEASE_WATCH:g} s rad":
+                                  f"{np.median(ds):.3f} ({ds.min():.3f}-{ds.max():.3f})"})
+    if not lines:
+        return
+    page.h2("Releases: where each came, and the tip-back after it (CLM default)")
+    page.p(html.escape("The paper releases the arms once S > L (eq. 5, crawler odometry). On the terraces "
+                       "the first release comes with the chassis behind the first edge: the level front "
+                       "flippers meet the second riser, the crawlers slip, S passes L with the body "
+                       "still, and without its rear arms the robot tips back over the edge "
+                       "(docs/octopus.md). Positions are the simulator's, along the approach axis."))
+    page.figure(_release_figure(plt, pts, edges), "releases.png",
+                "each release's position against the pitch rise that follows", dpi=80)
+    page.table(lines, list(lines[0]), csv_name="releases.csv")
 
 
 #: the paper's tasks that get a clip, with the mode shown (CLM everywhere; CCM where it fails the paper's way)

@@ -26,6 +26,20 @@ def same_number(a: float, b: float) -> bool:
     return (a != a and b != b) or a == b
 
 
+def _by(rows: list[dict], ident, path: str) -> dict:
+    """Rows by ``ident``; two rows under one identity (a store holding several ``--set`` variants
+    of one trial, paired ``--by trial``) would pair arbitrarily, so they stop the comparison."""
+    out: dict = {}
+    for r in rows:
+        k = ident(r)
+        if k in out:
+            sys.exit(f"{path}: two trials pair as {k} (config hashes {out[k]['config_hash']} and "
+                     f"{r['config_hash']}): this store holds several variants of one trial; compare "
+                     "--by key, or stores holding one variant each")
+        out[k] = r
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("a")
@@ -39,8 +53,7 @@ def main() -> None:
     ident = ((lambda r: r["key"]) if args.by == "key"
              else (lambda r: (r["system"], r["method"], r["instance"], r["seed"])))
     with ResultsStore(args.a, read_only=True) as sa, ResultsStore(args.b, read_only=True) as sb:
-        ra = {ident(r): r for r in sa.rows()}
-        rb = {ident(r): r for r in sb.rows()}
+        ra, rb = _by(sa.rows(), ident, args.a), _by(sb.rows(), ident, args.b)
         shared = sorted(set(ra) & set(rb), key=str)
         differing = 0
         for key in shared:

@@ -100,6 +100,7 @@ class CLMController(MachineController):
         self.pause_until = 0.0
         self.transfer_t0 = 0.0  # when the arm now in transfer left its foothold (s)
         self.transfer_times: list[float] = []  # the last four transfers, each with its gait pause (s)
+        self.gait_period = math.inf  # their mean, once four are timed (s): gait_pace's T
         self.s = 0.0
         self.h_est = 0.0
         self.last_case = FLAT
@@ -322,6 +323,8 @@ class CLMController(MachineController):
         self.pause_until = obs.t + cfg.gait_pause
         # the gait cycle's pace, timed by the controller: the last four transfers, pause included
         self.transfer_times = [*self.transfer_times[-3:], obs.t - self.transfer_t0 + cfg.gait_pause]
+        if len(self.transfer_times) == 4:
+            self.gait_period = sum(self.transfer_times) / 4
 
     def _travel_left(self, i: int, k: str) -> float:
         """How far (m) the body can still move forward before arm ``i``'s foothold leaves its range
@@ -338,12 +341,6 @@ class CLMController(MachineController):
         # the reach circle's rear crossing: fx - d - sx mx = -sqrt(rmax^2 - dy^2)
         return max(0.0, min(left, fx - sx * mx + math.sqrt(rmax * rmax - dy2)))
 
-    def _paced(self) -> bool:
-        """Whether the walk paces its crawlers (``gait_pace``): on its way, not at a
-        sensed up-step (the climb wants fresh footholds; the riser stops the body anyway) nor while
-        the arms are placed again after a release (``placing``), where the fixed cycle is kept."""
-        return self.last_case != UP and not self.placing
-
     def _pace(self, t: float) -> float:
         """``gait_pace``: the crawler speed (m/s) at which no foothold need leave its range before
         its arm's turn: at best the k-th nearest to its range end (travel left d_k) has its turn
@@ -352,9 +349,9 @@ class CLMController(MachineController):
         transfer's expected remainder (at least a quarter of T). A bound, not a guarantee: the
         turns keep GAIT_ORDER's cycle, and a foothold that still leaves its range stops the
         crawlers as before (``out_of_reach``). Unbounded (inf) before four transfers."""
-        if len(self.transfer_times) < 4:
-            return math.inf
-        period = sum(self.transfer_times) / 4
+        period = self.gait_period
+        if period == math.inf:
+            return period
         moving = any(self.phase.values())
         rem = max(period - (t - self.transfer_t0), 0.25 * period) if moving else max(self.pause_until - t, 0.0)
         left = sorted(self._travel_left(i, k) for i, k in enumerate(ARMS)
@@ -711,7 +708,6 @@ class CLMController(MachineController):
                 # back to walking on the top: arms re-placed, front flippers to their cruise angle
                 self._replace(obs, "booms and flippers released")
 
-
     def _stalled_alone(self, obs) -> str:
         """Why a climb on the crawlers alone (every arm lifted clear) cannot go on, or "": stopped
         at the guard (no arm is left to bring the nose down) or stalled (past its release distance,
@@ -766,8 +762,10 @@ class CLMController(MachineController):
                 self.placing = False
             hold = self.placing and obs.pitch > cfg.place_pitch
             v = 0.0 if self.out_of_reach or hold else cfg.track_speed
-            # paced on its way (gait_pace, _paced)
-            if v > 0.0 and cfg.gait_pace and self._paced():
+            # paced on its way (gait_pace), not at a sensed up-step (the climb wants fresh footholds;
+            # the riser stops the body anyway) nor while the arms are placed again after a release
+            # (placing): there the fixed cycle is kept
+            if v > 0.0 and cfg.gait_pace and self.last_case != UP and not self.placing:
                 v = min(v, self._pace(obs.t))
             if obs.pitch > cfg.guard_pitch:
                 # the paper's stability monitor: nose up toward the tip-back angle (~0.93 rad on the

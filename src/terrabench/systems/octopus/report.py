@@ -181,6 +181,8 @@ RELEASE_WATCH = 2.5
 #: chassis stands at most the front's reach (~0.5 m, pulley and level flippers) behind an edge it
 #: climbed; the report's grouping only
 RELEASE_REACH = 0.25
+#: the instances with edges to climb and release past (:func:`release_points`)
+RELEASE_TASKS = ("step-400", "terrace2-front", "terrace2-side")
 
 
 def release_points(events: list, ts: dict[str, np.ndarray]) -> list[tuple[float, float, float]]:
@@ -411,7 +413,7 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
         share = {r["key"]: climb_share(store.timeseries(r["key"]), r["method"]) for rs in g.values() for r in rs}
         mech = mechanism_lines(g, order, share)
         page.table(mech, list(mech[0]) if mech else ["task"], csv_name="mechanism.csv")
-        _releases(page, plt, store, g, order, {v.id for v in variants if v.is_default})
+        _releases(page, plt, store, g, order, {v.id for v in variants if v.is_default}, system)
     for key in sorted(g, key=_key_order(order)):
         rs = sorted(g[key], key=lambda r: r["seed"])
         r0 = rs[0]
@@ -471,23 +473,27 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
     return page.finish()
 
 
-def _releases(page: Any, plt, store, g, order, default_ids: set[str]) -> None:
+def _releases(page: Any, plt, store, g, order, default_ids: set[str], system: Any) -> None:
     """The releases of the default CLM climbs on the step and terrace tasks: a figure and a table
-    (releases.csv) of where each came and how far the pitch rose after it."""
+    (releases.csv) of where each came past the edge it climbed (the edges from the task's own
+    :func:`.task.layout`) and how far the pitch rose after it."""
+    from terrabench.systems.octopus.task import layout
+
     pts: dict[str, list[tuple[float, float, float]]] = {}
     edges: dict[str, tuple[float, ...]] = {}
     lines = []
     for key in sorted(g, key=_key_order(order)):
         rs = g[key]
-        if key[0] not in TASK_ORDER[:3] or rs[0]["method"] != "clm" or rs[0].get("variant") not in default_ids:
+        if key[0] not in RELEASE_TASKS or rs[0]["method"] != "clm" or rs[0].get("variant") not in default_ids:
             continue
         p = [x for r in rs for x in release_points(r["info"].get("events", []), store.timeseries(r["key"]))]
+        last = layout(key[0], system.load_config(rs[0]["config"]), 0).edge  # the first edge is at 0
+        es = edges[key[0]] = (0.0, last) if last > 0.0 else (0.0,)
         pts[key[0]] = p
-        tread = rs[0]["config"].get("scene", {}).get("terrace_tread")
-        edges[key[0]] = (0.0,) if key[0] == "step-400" or tread is None else (0.0, float(tread))
         # each release against the edge it climbed: the last edge less than RELEASE_REACH ahead
-        for k, edge in enumerate(edges[key[0]]):
-            sel = [x for x in p if edge == max((e for e in edges[key[0]] if e < x[1] + RELEASE_REACH), default=0.0)]
+        climbed = [max((e for e in es if e < x[1] + RELEASE_REACH), default=0.0) for x in p]
+        for k, edge in enumerate(es):
+            sel = [x for x, e in zip(p, climbed) if e == edge]
             if sel:
                 xs, ds = np.array([x[1] - edge for x in sel]), np.array([x[2] for x in sel])
                 lines.append({"task": key[0], "edge": f"{k + 1} (at {edge:.2f} m)", "releases": len(sel),

@@ -836,7 +836,7 @@ class OctopusTask(TaskBase):
             "tip_slip_walk_max_m": fin(slip_mode[walk], np.max),
             "tip_slip_climb_max_m": fin(slip_mode[in_climb], np.max),
             "tracks_stopped_share": float(np.mean(vcmd[walk] < 1e-3)) if walk.any() else nan,
-            "walk_speed_mean_mps": fin(vcmd[walk], np.mean) if walk.any() else nan,
+            "walk_speed_mean_mps": fin(vcmd[walk], np.mean),
             "margin_min_m": fin(m_static, np.min),
             "margin_sensed_min_m": fin(sensed, np.min),
         }

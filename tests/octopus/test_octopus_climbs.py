@@ -345,3 +345,19 @@ def test_the_walk_paces_its_crawlers_instead_of_stopping_them():
     v_on, v_off = on.metrics["walk_speed_mean_mps"], off.metrics["walk_speed_mean_mps"]
     assert 0.5 * v_off < v_on
     assert np.nanmax(on.timeseries["track_cmd"]) <= np.nanmax(off.timeseries["track_cmd"]) + 1e-12
+
+
+def test_an_arm_resting_on_the_top_at_full_stretch_is_a_foothold_not_a_pit():
+    """terrace2-front seed 15: after the first release the nose-up body (0.46 rad) lowers the LF arm
+    onto the second top at full stretch, where the stretch hides the torque jump; without the pit
+    check the arm was called a pit and left hanging on the top, and its roller tip rolled 0.74 m
+    with the body until its next turn (the trial's walk-phase tip slip). With it (``pit_hold``)
+    the arm presses its elbow down at the end of the hold, lands there and holds its foothold;
+    the drop deeper than the arm (the zoo's step-down, test_octopus.py) is still a pit."""
+    on = _run("clm", "terrace2-front", seed=15)
+    off = _run("clm", "terrace2-front", seed=15, **{"clm.pit_hold": 0.0})
+    assert on.status == off.status == "success"
+    assert any("held at full stretch" in e[3] for e in _events(on))
+    assert not any("held at full stretch" in e[3] for e in _events(off))
+    assert off.metrics["tip_slip_walk_max_m"] > 0.5
+    assert on.metrics["tip_slip_walk_max_m"] < 0.25

@@ -82,6 +82,8 @@ class CLMController(MachineController):
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = [False] * 4  # landed, pressing, not yet settled
+        self.stretched_on = [False] * 4  # landed at full stretch by the pit check (pit_hold): no press to test
+        self.in_pit = [False] * 4  # found no ground (a pit): hanging at full stretch until its turn
         self.land_z = [0.0] * 4  # a landing tip's height where it stopped (m)
         self.land_why = ""  # the signal of the last landing: torque / blocked / tilted
         self.glide: list = [None] * 4  # a lowering arm's line to the top of its descent (p0, p1, ticks)
@@ -177,6 +179,7 @@ class CLMController(MachineController):
                 return -1
             self.phase[k] = 1
             self.contact[ARM_INDEX[k]] = False
+            self.stretched_on[ARM_INDEX[k]] = self.in_pit[ARM_INDEX[k]] = False
             self.transfer_t0 = obs.t
             self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, why))
             moving = [k]
@@ -185,6 +188,26 @@ class CLMController(MachineController):
         q = obs.q_arm[i]
         tgt = self._tgt_q[k]
         ph = self.phase[k]
+        if ph == 4:
+            # the pit check: the arm holds the command it reached pit_depth with. A straight arm
+            # hanging free holds its forearm up (elbow torque < 0); one whose tip rests on a top
+            # (the stretch hides the torque jump and the blocked tip above) presses it down
+            self.t3[i] += self.dt
+            if self.t3[i] < cfg.pit_hold - 1e-9:
+                return i
+            tau = float(obs.tau_elbow[i])
+            self.phase[k] = 0
+            if tau > cfg.contact_torque:
+                self.stretched_on[i] = True
+                self.land_why = f"held at full stretch, elbow torque {tau:+.0f} N m"
+                self._land(obs, k, i)
+            else:
+                self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")
+                self.pause_until = obs.t + cfg.gait_pause
+                # the hanging arm's torque: ground that comes up under the tip later (the nose
+                # dropping onto a tread) is a jump above it (_support)
+                self.in_pit[i], self.tau_ref[i] = True, obs.tau_elbow[i]
+            return i
         if ph == 3:
             # lower: the tip target descends straight down over the transfer target (IK), so the
             # tip lands where it was sent; contact = the elbow torque signal, or the tip stops
@@ -266,7 +289,9 @@ class CLMController(MachineController):
             self.glide_n[i] = 0
             self.att0 = (obs.pitch, obs.roll)
         self.cmd.arm[i] = c
-        if new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
+        if new_ph == 4 and cfg.pit_hold > 0:  # no contact by pit_depth: the pit check (phase 4) first
+            self.phase[k], self.t3[i] = 4, 0.0
+        elif new_ph == 4:  # joint limit without contact: a deep pit; the arm stays where it is
             self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")
             self.phase[k] = 0
             self.pause_until = obs.t + cfg.gait_pause
@@ -291,11 +316,12 @@ class CLMController(MachineController):
         cfg = self.cfg
         f = self.foot[i]
         stretched = ak.beyond_reach(f[0], f[1], self.tip_z[i] - cfg.press, self._ikc[i])
+        stretched = stretched and not self.stretched_on[i]  # a tip held at full stretch cannot press further
         if cfg.relower_dz and (self.tip_z[i] < self.land_z[i] - cfg.relower_dz or stretched):
             # the pressing tip went on down below where it stopped, or presses at the arm's full
             # stretch (nothing under it within reach): the signal was not a contact (a torque or
             # tilt transient in the air); lower again
-            self.landing[i] = False
+            self.landing[i] = self.stretched_on[i] = False
             # (the descent goes on from its target, so a deep pit is still found: phase 4)
             self.phase[k], self.t3[i], self.low_z[i] = 3, 0.0, min(self.low_z[i], self.tip_z[i])
             self.tau_ref[i], self.att0 = obs.tau_elbow[i], (obs.pitch, obs.roll)
@@ -317,7 +343,8 @@ class CLMController(MachineController):
         self.tau_ref[i] = obs.tau_elbow[i]
         case = arm_stop_case(self.tip_r[i], self.targets[k], cfg.d_c, cfg.d_d)
         self.stop_case[i] = case
-        self._arm_event(obs.t, k, TRANSFER, SUPPORT, f"landed: {case}")
+        self._arm_event(obs.t, k, TRANSFER, SUPPORT,
+                        f"landed: {case}" + (f" ({self.land_why})" if self.stretched_on[i] else ""))
         if case == "reached":
             self.extra_lift[i] = 0.0
         self.pause_until = obs.t + cfg.gait_pause
@@ -382,6 +409,12 @@ class CLMController(MachineController):
         tip_z, press, moving = self.tip_z, cfg.press, cfg.arm_moving
         (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
         for i, k in enumerate(ARMS):
+            if self.in_pit[i] and not self.phase[k] and obs.tau_elbow[i] - self.tau_ref[i] > cfg.contact_torque:
+                # a hanging pit arm whose tip the ground has come up to (elbow torque in the contact
+                # direction): it lands there at full stretch instead of rolling with the body
+                self.in_pit[i], self.stretched_on[i] = False, True
+                self.land_why = f"ground under a pit arm, elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
+                self._land(obs, k, i)
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue
             if self.landing[i]:
@@ -789,7 +822,9 @@ class CLMController(MachineController):
                     self.queue_reason[k] = (f"collision: elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
                                             f" > {cfg.hit_torque:g}")
             i = self._transfer(obs)
-            all_down = self._all_down()
+            # a tip held at full stretch (the pit check) holds its foothold but is no exploration
+            # point: its arm has no travel left to press or lift with, so no climb starts on it
+            all_down = self._all_down() and not any(self.stretched_on)
             if all_down:  # the four-tip exploration (z: the tips' heights in {C}, read below too)
                 self.tp = terrain_angles(self.tip_c)[0]
                 z = self.tip_c[:, 2]

@@ -132,6 +132,14 @@ class CLMConfig:
     pit_depth: float = param(0.45, gt=0, unit="m",
                              doc="no ground this far below the transfer target: a pit (arm stop case 3); the "
                                  "lowering arm stops where it is")
+    pit_hold: float = param(0.3, ge=0, le=2.0, unit="s",
+                            doc="a lowering arm that has found no contact by pit_depth holds its pose this long "
+                                "before it is called a pit: an arm whose tip rests on a top at full stretch (the "
+                                "nose-up body on a short tread, where the stretch hides the torque and blocked "
+                                "signals) then presses its elbow down by more than contact_torque, a free arm "
+                                "hanging straight holds it up (-4 to -10 N m). A pit arm then lands when its elbow "
+                                "torque rises contact_torque above its hanging value (the ground coming up to the "
+                                "tip). 0: neither, the pit at once and the arm left hanging (before 2026-12-06)")
     targets: tuple[tuple[float, float, float], tuple[float, float, float]] = param(
         ((0.75, 0.55, -0.05), (-0.45, 0.55, -0.05)), length=2, unit="m",
         doc="transfer target tips in {R} (x, |y|, z) for (front, rear) arms, y signed by side (Table 2's analogue)")

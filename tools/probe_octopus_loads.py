@@ -16,6 +16,7 @@ import collections
 
 import numpy as np
 
+from terrabench.config import parse_overrides
 from terrabench.sim.episode import Episode
 from terrabench.systems.octopus.scenarios import SYSTEM
 
@@ -26,10 +27,11 @@ def main() -> None:
     ap.add_argument("instance")
     ap.add_argument("seed", type=int)
     ap.add_argument("times", help="comma-separated instants (s)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
     a = ap.parse_args()
     times = sorted(float(x) for x in a.times.split(","))
     specs = SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
-                        overrides={"protocol.timeout": times[-1] + 1.0})
+                        overrides={**parse_overrides(a.set), "protocol.timeout": times[-1] + 1.0})
     spec = next(s for s in specs if s.seed == a.seed)
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)

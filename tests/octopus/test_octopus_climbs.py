@@ -361,3 +361,15 @@ def test_an_arm_resting_on_the_top_at_full_stretch_is_a_foothold_not_a_pit():
     assert not any("held at full stretch" in e[3] for e in _events(off))
     assert off.metrics["tip_slip_walk_max_m"] > 0.5
     assert on.metrics["tip_slip_walk_max_m"] < 0.25
+
+
+def test_the_front_flippers_read_the_bodys_advance_against_the_riser():
+    """step-400 seed 0: from ~15 s the front flippers are pushed up the riser's face and the body
+    advances at 30-90 % of the crawler command, so footholds moved by the crawler odometry drag
+    the roller tips back (walk-phase tip slip ~0.11 m). Read from the flippers' tips against the
+    face (``flipper_feel``), the advance moves the footholds with the body: the slip halves."""
+    on = _run("clm", "step-400", **{"clm.flipper_feel": True})
+    off = _run("clm", "step-400")
+    assert on.status == off.status == "success"
+    assert off.metrics["tip_slip_walk_max_m"] > 0.09
+    assert on.metrics["tip_slip_walk_max_m"] < 0.6 * off.metrics["tip_slip_walk_max_m"]

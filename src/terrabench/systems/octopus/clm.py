@@ -84,6 +84,7 @@ class CLMController(MachineController):
         self.landing = [False] * 4  # landed, pressing, not yet settled
         self.stretched_on = [False] * 4  # landed at full stretch by the pit check (pit_hold): no press to test
         self.in_pit = [False] * 4  # found no ground (a pit): hanging at full stretch until its turn
+        self.feel_x: list = [None, None]  # each front feeler's tip x in {C} a tick ago (flipper_feel)
         self.land_z = [0.0] * 4  # a landing tip's height where it stopped (m)
         self.land_why = ""  # the signal of the last landing: torque / blocked / tilted
         self.glide: list = [None] * 4  # a lowering arm's line to the top of its descent (p0, p1, ticks)
@@ -390,7 +391,49 @@ class CLMController(MachineController):
                 v = min(v, d / wait)
         return v
 
-    def _support(self, obs, v: float) -> bool:
+    def _feel(self, obs) -> float:
+        """``flipper_feel``: the body's advance (m) over the last tick read from the front flippers
+        against a riser, the mean over the feelers read at both ticks; inf when none is.
+
+        A flipper pushed up (torque below -``feel_torque``) has its tip pulley against the riser's
+        face while the tip's centre is below the top the highest supporting front arm stands on
+        (its tip in {C} less the tip radius): the contact is then at the centre's height and the
+        face is fixed, so the tip centre's level-frame x (IMU roll and pitch) moves back by the
+        body's advance. Above the top's edge the flipper's run rides the edge instead and nothing
+        is read (the tip model would under-count there). A feeler that reaches its upper limit
+        (``a0``) against the face stands upright there: the body cannot advance into the riser
+        until the climb, and it reads 0."""
+        cfg, rb = self.cfg, self.robot
+        q, tau = obs.q_flip.tolist(), obs.tau_flip.tolist()
+        up = cfg.a0 - 0.1
+        pushed = [tau[0] < -cfg.feel_torque, tau[1] < -cfg.feel_torque]
+        held = [q[0] > up and self.feel_x[0] is not None, q[1] > up and self.feel_x[1] is not None]
+        tops = ([z for z, on in zip(self.tip_c[:2, 2].tolist(), self.contact[:2]) if on]
+                if any(pushed) or any(held) else [])
+        if not tops:
+            self.feel_x = [None, None]
+            return math.inf
+        top = max(tops) - rb.tip_r
+        r = ak.rotation_rc(obs.roll, obs.pitch).tolist()
+        reads = []
+        for f in (0, 1):
+            if held[f]:
+                reads.append(0.0)  # upright against the face: the body stands
+                continue
+            x = z = None
+            if pushed[f]:
+                px, pz = rb.pulley_x + rb.flipper_len * math.cos(q[f]), rb.flipper_len * math.sin(q[f])
+                x = r[0][0] * px + r[0][2] * pz
+                z = r[2][0] * px + r[2][2] * pz
+            if x is not None and z < top:
+                if self.feel_x[f] is not None:
+                    reads.append(self.feel_x[f] - x)
+                self.feel_x[f] = x
+            else:
+                self.feel_x[f] = None
+        return sum(reads) / len(reads) if reads else math.inf
+
+    def _support(self, obs, v: float, dx_max: float = math.inf) -> bool:
         """Arm moving (eqs. 22-27): each supporting arm's joints follow the body so its tip holds
         its foothold; returns True when a foothold has left its arm's working range.
 
@@ -405,6 +448,8 @@ class CLMController(MachineController):
         mx, my, _ = self.robot.arm_mount
         a = self.tp - obs.pitch
         dx = v * self.dt * math.cos(a)
+        if dx > dx_max:  # the front feelers read less advance than the odometry (flipper_feel)
+            dx = max(dx_max, 0.0)
         out = False
         tip_z, press, moving = self.tip_z, cfg.press, cfg.arm_moving
         (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
@@ -809,7 +854,7 @@ class CLMController(MachineController):
                                       f"{cfg.guard_pitch}: crawlers back off")
             self.guarding = obs.pitch > cfg.guard_pitch
             c.track[0], c.track[1] = steer(v, self.heading, cfg.heading_gain, cfg.heading_dv)
-            self.out_of_reach = self._support(obs, v)
+            self.out_of_reach = self._support(obs, v, self._feel(obs) if cfg.flipper_feel else math.inf)
             q_flip, tau_flip = obs.q_flip.tolist(), obs.tau_flip.tolist()
             for f in (0, 1):
                 c.flip[f], _ = flipper_rule(q_flip[f], tau_flip[f], cfg.t0, cfg.d_a, cfg.a0, cfg.d_b_flip)

@@ -707,7 +707,10 @@ class CLMController(MachineController):
         # crawlers drive on up it (a riser below the flippers' reach) before the release
         if self.s > self.s_release and up and obs.pitch < cfg.mount_pitch:
             self.release_pitch = obs.pitch
-            self.machine.go(obs.t, RELEASE, f"H = {h_rear:.3f} m > H_EST, S = {self.s:.3f} m > {self.s_release:.2f} m")
+            # "up" is latched (H reached H_EST within lift_margin, or the front over the top with the
+            # body level): H itself may read below H_EST now, so the event states both
+            self.machine.go(obs.t, RELEASE, f"rear up (H = {h_rear:.3f} m, H_EST = {self.h_est:.3f} m), "
+                                            f"S = {self.s:.3f} m > {self.s_release:.2f} m")
 
     def _climb(self, obs) -> None:
         """Eqs. 28-29 with a vertical lift and the crawlers loaded (docs/assumptions-octopus.md).

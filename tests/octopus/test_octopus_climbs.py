@@ -373,3 +373,16 @@ def test_the_front_flippers_read_the_bodys_advance_against_the_riser():
     assert on.status == off.status == "success"
     assert off.metrics["tip_slip_walk_max_m"] > 0.09
     assert on.metrics["tip_slip_walk_max_m"] < 0.6 * off.metrics["tip_slip_walk_max_m"]
+
+
+def test_a_pit_arm_lands_when_the_ground_comes_up_to_it():
+    """terrace2-side seed 4: the RF arm found no ground and hung free (-5 N m at its elbow) with the
+    nose up 0.55 rad; the nose then dropped onto the tread and brought the top up to the hanging tip,
+    which rolled 0.4-0.8 m with the body. The pit arm's elbow torque rising ``contact_torque`` above
+    its free hang lands it there."""
+    on = _run("clm", "terrace2-side", seed=4)
+    off = _run("clm", "terrace2-side", seed=4, **{"clm.pit_hold": 0.0})
+    assert on.status == off.status == "success"
+    assert any("ground under a pit arm" in e[3] for e in _events(on))
+    assert off.metrics["tip_slip_walk_max_m"] > 0.35
+    assert on.metrics["tip_slip_walk_max_m"] < 0.25

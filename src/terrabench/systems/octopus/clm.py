@@ -82,7 +82,7 @@ class CLMController(MachineController):
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = [False] * 4  # landed, pressing, not yet settled
-        self.stretched_on = [False] * 4  # landed at full stretch by the pit check (pit_hold): no press to test
+        self.stretched_on = [""] * 4  # why an arm landed at full stretch (the pit check, pit_hold), or "": no press to test
         self.in_pit = [False] * 4  # found no ground (a pit): hanging at full stretch until its turn
         self.feel_x: list = [None, None]  # each front feeler's tip x in {C} a tick ago (flipper_feel)
         self.land_z = [0.0] * 4  # a landing tip's height where it stopped (m)
@@ -180,7 +180,7 @@ class CLMController(MachineController):
                 return -1
             self.phase[k] = 1
             self.contact[ARM_INDEX[k]] = False
-            self.stretched_on[ARM_INDEX[k]] = self.in_pit[ARM_INDEX[k]] = False
+            self.stretched_on[ARM_INDEX[k]], self.in_pit[ARM_INDEX[k]] = "", False
             self.transfer_t0 = obs.t
             self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, why))
             moving = [k]
@@ -199,15 +199,18 @@ class CLMController(MachineController):
             tau = float(obs.tau_elbow[i])
             self.phase[k] = 0
             if tau > cfg.contact_torque:
-                self.stretched_on[i] = True
-                self.land_why = f"held at full stretch, elbow torque {tau:+.0f} N m"
+                self.stretched_on[i] = f"held at full stretch, elbow torque {tau:+.0f} N m"
                 self._land(obs, k, i)
             else:
                 self._arm_event(obs.t, k, TRANSFER, SUPPORT, "no ground within reach (pit)")
                 self.pause_until = obs.t + cfg.gait_pause
                 # the hanging arm's torque: ground that comes up under the tip later (the nose
-                # dropping onto a tread) is a jump above it (_support)
-                self.in_pit[i], self.tau_ref[i] = True, obs.tau_elbow[i]
+                # dropping onto a tread) is a jump above it (_support). Only from a free hang
+                # (within contact_torque of zero): an arm that already reads a large upward torque
+                # is wedged (a tip against a gap's wall, the zoo's gap@0.3: -88 to -138 N m, swinging
+                # by more than contact_torque), no reference for a jump
+                self.in_pit[i] = tau > -cfg.contact_torque
+                self.tau_ref[i] = obs.tau_elbow[i]
             return i
         if ph == 3:
             # lower: the tip target descends straight down over the transfer target (IK), so the
@@ -322,7 +325,7 @@ class CLMController(MachineController):
             # the pressing tip went on down below where it stopped, or presses at the arm's full
             # stretch (nothing under it within reach): the signal was not a contact (a torque or
             # tilt transient in the air); lower again
-            self.landing[i] = self.stretched_on[i] = False
+            self.landing[i], self.stretched_on[i] = False, ""
             # (the descent goes on from its target, so a deep pit is still found: phase 4)
             self.phase[k], self.t3[i], self.low_z[i] = 3, 0.0, min(self.low_z[i], self.tip_z[i])
             self.tau_ref[i], self.att0 = obs.tau_elbow[i], (obs.pitch, obs.roll)
@@ -345,7 +348,7 @@ class CLMController(MachineController):
         case = arm_stop_case(self.tip_r[i], self.targets[k], cfg.d_c, cfg.d_d)
         self.stop_case[i] = case
         self._arm_event(obs.t, k, TRANSFER, SUPPORT,
-                        f"landed: {case}" + (f" ({self.land_why})" if self.stretched_on[i] else ""))
+                        f"landed: {case}" + (f" ({self.stretched_on[i]})" if self.stretched_on[i] else ""))
         if case == "reached":
             self.extra_lift[i] = 0.0
         self.pause_until = obs.t + cfg.gait_pause
@@ -457,8 +460,8 @@ class CLMController(MachineController):
             if self.in_pit[i] and not self.phase[k] and obs.tau_elbow[i] - self.tau_ref[i] > cfg.contact_torque:
                 # a hanging pit arm whose tip the ground has come up to (elbow torque in the contact
                 # direction): it lands there at full stretch instead of rolling with the body
-                self.in_pit[i], self.stretched_on[i] = False, True
-                self.land_why = f"ground under a pit arm, elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
+                self.in_pit[i] = False
+                self.stretched_on[i] = f"ground under a pit arm, elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
                 self._land(obs, k, i)
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue

@@ -82,7 +82,8 @@ class CLMController(MachineController):
         self.extra_lift = np.zeros(4)  # boom lift beyond A_B after a blocked swing (rad)
         self.att0 = (0.0, 0.0)  # IMU pitch and roll when the lowering began (rad)
         self.landing = [False] * 4  # landed, pressing, not yet settled
-        self.stretched_on = [""] * 4  # why an arm landed at full stretch (the pit check, pit_hold), or "": no press to test
+        # why an arm landed at full stretch (the pit check, pit_hold), or "": it has no press to test
+        self.stretched_on = [""] * 4
         self.in_pit = [False] * 4  # found no ground (a pit): hanging at full stretch until its turn
         self.feel_x: list = [None, None]  # each front feeler's tip x in {C} a tick ago (flipper_feel)
         self.land_z = [0.0] * 4  # a landing tip's height where it stopped (m)
@@ -461,7 +462,8 @@ class CLMController(MachineController):
                 # a hanging pit arm whose tip the ground has come up to (elbow torque in the contact
                 # direction): it lands there at full stretch instead of rolling with the body
                 self.in_pit[i] = False
-                self.stretched_on[i] = f"ground under a pit arm, elbow torque {obs.tau_elbow[i] - self.tau_ref[i]:+.0f} N m"
+                rise = obs.tau_elbow[i] - self.tau_ref[i]
+                self.stretched_on[i] = f"ground under a pit arm, elbow torque {rise:+.0f} N m"
                 self._land(obs, k, i)
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue

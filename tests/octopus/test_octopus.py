@@ -1,5 +1,6 @@
 """OCTOPUS: pinned model, sensing boundary, CLM rules, stability margin, terrain pieces, trials."""
 
+import math
 from types import SimpleNamespace
 
 import numpy as np
@@ -364,3 +365,61 @@ def test_an_arm_over_a_drop_deeper_than_its_reach_finds_no_ground():
     ev = [tuple(e) for e in r.info["events"]]
     assert any("pressed at full stretch" in e[3] for e in ev)
     assert any(e[3] == "no ground within reach (pit)" for e in ev)
+
+
+def _pit_check(tau_elbow: float):
+    """A walking CLM whose RR arm has just reached pit_depth (phase 4), held pit_hold with the given
+    elbow torque."""
+    ctl, obs = _walking_clm()
+    k, i = "RR", clm.ARM_INDEX["RR"]
+    ctl.phase[k], ctl.t3[i] = 4, 0.0
+    obs.tau_elbow = np.array([0.0, 0.0, 0.0, tau_elbow])
+    ctl.tip_r[i] = [-0.6, -0.6, -0.45]
+    for _ in range(round(ctl.cfg.pit_hold / ctl.dt) + 1):
+        ctl._transfer(obs)
+    return ctl, obs, k, i
+
+
+def test_the_pit_check_reads_the_elbow_a_resting_tip_presses_down():
+    """At pit_depth with no contact signal the arm holds pit_hold, then: an elbow pressing down by
+    more than contact_torque (a tip resting at full stretch) lands it; a free hang (holding the
+    forearm up) is a pit, and a later rise of contact_torque over that hang lands it."""
+    ctl, obs, k, i = _pit_check(+74.0)
+    assert ctl.phase[k] == 0 and ctl.landing[i] and "held at full stretch" in ctl.stretched_on[i]
+    ctl, obs, k, i = _pit_check(-6.0)
+    assert ctl.phase[k] == 0 and not ctl.landing[i] and ctl.in_pit[i]
+    assert ctl.machine.events[-1].reason == "no ground within reach (pit)"
+    obs.tau_elbow = np.array([0.0, 0.0, 0.0, -6.0 + ctl.cfg.contact_torque - 1.0])
+    ctl._support(obs, 0.0)
+    assert not ctl.landing[i]                           # a rise below contact_torque: still hanging
+    obs.tau_elbow = np.array([0.0, 0.0, 0.0, -6.0 + ctl.cfg.contact_torque + 1.0])
+    ctl._support(obs, 0.0)
+    assert ctl.landing[i] and "ground under a pit arm" in ctl.stretched_on[i]
+    ctl, obs, k, i = _pit_check(-90.0)                  # wedged, not hanging: no reference to watch
+    assert not ctl.in_pit[i] and not ctl.landing[i]
+
+
+def test_the_front_flipper_feeler_reads_the_advance_from_its_tip_against_the_face():
+    """flipper_feel: a front flipper pushed up a riser's face turns from q1 to q2 as the body
+    advances L (cos q1 - cos q2) (level body); above the top's edge, or not pushed, it reads nothing;
+    upright at its limit against the face it reads 0."""
+    ctl, obs = _walking_clm()
+    rb, cfg = ctl.robot, ctl.cfg
+    ctl.contact = [True, True, True, True]
+    ctl.tip_r = np.array([[0.7, 0.5, 0.35], [0.7, -0.5, 0.35], [-0.5, 0.5, -0.05], [-0.5, -0.5, -0.05]])
+    pushed = np.array([-30.0, -30.0, 0.0, 0.0])
+
+    def feel(q, tau=pushed):
+        ctl._tip_c, ctl._att = None, (0.0, 0.0)
+        obs.q_flip, obs.tau_flip = np.array([q, q, 0.0, 0.0]), tau
+        return ctl._feel(obs)
+
+    assert feel(0.40) == math.inf                       # the first reading has nothing to compare
+    assert feel(0.45) == pytest.approx(rb.flipper_len * (math.cos(0.40) - math.cos(0.45)), rel=1e-12)
+    assert feel(0.50, np.zeros(4)) == math.inf          # not pushed: no reading
+    ctl.tip_r[:2, 2] = 0.0                              # the top at the tip's height: the run rides the edge
+    feel(0.50)
+    assert feel(0.55) == math.inf
+    ctl.tip_r[:2, 2] = 0.35
+    feel(cfg.a0 - 0.2)
+    assert feel(cfg.a0 - 0.05, np.zeros(4)) == 0.0      # upright against the face: the body stands

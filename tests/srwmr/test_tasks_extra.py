@@ -203,3 +203,20 @@ def test_t10_period_labels_and_t15_slope():
     ts = {"t": t, "step": np.ones(len(t)), "yaw": yaw, "delta_L": d, "delta_R": d}
     w, r = yaw_vs_wheelbase(ts, CFG)
     assert np.polyfit(w, r, 1)[0] == pytest.approx(-0.02, rel=0.05)
+
+
+def test_in_place_steering_holds_the_clearance_and_turns_below_the_command():
+    """Sec. 8.6: differential steering in place at a held clearance. The RCLM step does not end at
+    its (already reached) clearance but steers for ``steer_s`` (so a 20 s window times out instead
+    of succeeding at once); the clearance stays where it is, and the body turns the commanded way
+    at a fraction of the command on loose soil (the paper: about one-fifth)."""
+    spec = SYSTEM.plan(methods=["rclm"], instances=["steer-w002"], seeds=1,
+                       overrides={"protocol.timeout": 20.0})[0]
+    r = SYSTEM.run_trial(spec)
+    assert r.status == "timeout"
+    t = np.asarray(r.timeseries["t"], float)
+    yaw = np.unwrap(np.asarray(r.timeseries["yaw"], float))
+    dl = np.asarray(r.timeseries["delta_L"], float)
+    assert np.ptp(dl) < 0.01                               # the closing angle held (rad)
+    rate = (yaw[-1] - yaw[t >= 5.0][0]) / (t[-1] - t[t >= 5.0][0])
+    assert 0.0 < rate < 0.5 * 0.02

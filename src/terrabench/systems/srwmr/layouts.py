@@ -47,6 +47,12 @@ T10_HOLD = 0.45
 #: T15 yaw rates (rad/s) [S 0.02, 0.03] and the clearances the chassis is lowered between (m) [R]
 T15_RATES = {"t15-w002": 0.02, "t15-w003": 0.03}
 T15_CLEARANCE = (0.45, 0.15)
+#: in-place steering at a held clearance: the yaw rates (rad/s) [S sec. 8.6: "commanded to rotate
+#: about its vertical axis with constant desired body yaw rates 0.01 rad/s and 0.02 rad/s"; "the
+#: measured yaw rates were approximately one-fifth of the commanded values"], the duration (s) [R:
+#: the paper's T_s is lost; long enough for the rate to settle] at the nominal clearance [R]
+STEER_RATES = {"steer-w001": 0.01, "steer-w002": 0.02}
+STEER_S = 200.0
 
 
 @dataclass(frozen=True)
@@ -386,6 +392,16 @@ def _t15(b: Build) -> Layout:
     return Layout(FLAT, (), "loose", plan, None,
                   note=f"differential steering in place at {w:g} rad/s while the chassis is lowered "
                        f"{hi * 1000:.0f} -> {lo * 1000:.0f} mm (the wheelbase lengthens) [S Task 15; heights R]")
+
+
+@instance(*STEER_RATES, group="steer", methods=("rclm",), timeout=STEER_S + 60.0)
+def _steer(b: Build) -> Layout:
+    """In-place steering at a held clearance (the paper's sec. 8.6 experiment beside Task 15)."""
+    w = STEER_RATES[b.instance]
+    plan = (Step("RCLM", v=0.0, wz=w, diff=True, clearance=0.25, steer_s=STEER_S),)
+    return Layout(FLAT, (), "loose", plan, None,
+                  note=f"differential steering in place at {w:g} rad/s for {STEER_S:g} s at the 250 mm "
+                       f"clearance [S sec. 8.6: yaw about one-fifth of the command; duration R]")
 
 
 # ---------------------------------------------------------------------------- wheel-legged tasks

@@ -62,6 +62,9 @@ class Step:
             :data:`~terrabench.systems.srwmr.legged.SHIFT`). SWLM/DWLM ``dist``: the roll while lifted.
         clearance_r: RCLM clearance (m) of the right side's hinge (None: ``clearance`` for both; an
             asymmetric lift, group ``ik``).
+        steer_s: RCLM: with the clearance at its target the step holds it and goes on until this long
+            (s) after its start (in-place steering at a held clearance, the paper's sec. 8.6; None: the
+            step ends at its target).
         hold_s: RCLM: the step ends after this long (s) even short of its target (None: at the
             target only): a lift commanded against a limit the QP holds it at (group ``ik``).
         qp: False: the constraint-saturated projection is bypassed and the nominal command executed
@@ -93,6 +96,7 @@ class Step:
     shift: float | None = None
     clearance_r: float | None = None
     hold_s: float | None = None
+    steer_s: float | None = None
     qp: bool = True
     qp_about_target: bool = False
     halt_tol: float = 0.0
@@ -259,7 +263,8 @@ class ChassisLifting(_Mode):
 
     def nominal(self, ctl: Any, obs: Any, x: float, y: float, dyaw: float) -> Nominal:
         st, td = self.st, self.target
-        if np.max(np.abs(obs.delta - td)) < 0.004:
+        if np.max(np.abs(obs.delta - td)) < 0.004 and (st.steer_s is None
+                                                        or obs.t - ctl.step_start[3] >= st.steer_s):
             return Nominal(np.zeros(5), True)
         if st.hold_s is not None and obs.t - ctl.step_start[3] >= st.hold_s:
             return Nominal(np.zeros(5), True)

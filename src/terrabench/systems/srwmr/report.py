@@ -26,6 +26,8 @@ PAPER = {
     ("t10-heights", "rclm"): "s_b within 0-0.44; P 54/56/57 W held at 150/450/550 mm",
     ("t15-w002", "rclm"): "yaw rate falls as the wheelbase lengthens; MC#8 max ~0.4",
     ("t15-w003", "rclm"): "yaw rate falls as the wheelbase lengthens; MC#8 max ~0.4",
+    ("steer-w001", "rclm"): "in-place yaw rate about one-fifth of the command (sec. 8.6)",
+    ("steer-w002", "rclm"): "in-place yaw rate about one-fifth of the command (sec. 8.6)",
     ("t11-slope15", "wrm"): "s_b -> 0.96, health halt at 64 s",
     ("t11-slope15", "rcm"): "RCM holds s_b ~0.44, all wheels on the slope",
     ("t14-obstacle", "wrm"): "4634 mm, 401 s, 97 kJ",
@@ -55,10 +57,11 @@ OPERATOR = (
 
 
 def _in_tasks(r: dict[str, Any]) -> bool:
-    """A row of the paper's tasks (group ``tasks``): the slope sweep and the ``ik`` cases have their
-    own sections (an instance no longer registered counts as a task row)."""
+    """A row of the paper's experiments (groups ``tasks`` and ``steer``, sec. 8.6's in-place
+    steering): the slope sweep and the ``ik`` cases have their own sections (an instance no longer
+    registered counts as a task row)."""
     es = REGISTRY.get(r["instance"])
-    return not es or es[0].group == "tasks"
+    return not es or es[0].group in ("tasks", "steer")
 
 
 def _mean(rs, key):

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from terrabench.systems.srwmr.layouts import T10_HEIGHTS, T15_RATES
+from terrabench.systems.srwmr.layouts import STEER_RATES, T10_HEIGHTS, T15_RATES
 
 #: [S] Task 9 (WRM Ackermann, WCM): mean s_b, s_b range, running time (s), energy (kJ), mean power (kW)
 T9_PAPER = {
@@ -171,6 +171,34 @@ def t15_lines(store, rows, robot) -> tuple[list[dict[str, Any]], list[tuple[str,
     return lines, curves
 
 
+def steer_lines(store, rows) -> list[dict[str, Any]]:
+    """Sec. 8.6's in-place steering: the mean yaw rate over the steering step (its first 5 s left
+    out, the MC#8 ramp) against the command; the paper measured about one-fifth of it."""
+    lines = []
+    for inst, w in STEER_RATES.items():
+        for r in _first(rows, inst, "rclm"):
+            ts = store.timeseries(r["key"])
+            if not ts or "t" not in ts:
+                continue
+            t = np.asarray(ts["t"], float)
+            yaw = np.unwrap(np.asarray(ts["yaw"], float))
+            keep = t >= t[0] + 5.0
+            if keep.sum() < 5:
+                continue
+            rate = float((yaw[keep][-1] - yaw[keep][0]) / (t[keep][-1] - t[keep][0]))
+            lines.append({
+                "task": inst,
+                "seed": r["seed"],
+                "status": r["status"],
+                "yaw cmd rad/s": w,
+                "steering s": float(t[keep][-1] - t[0]),
+                "mean yaw rate rad/s": rate,
+                "achieved share": rate / w,
+                "paper": "about one-fifth (0.2) of the command on loose soil [S sec. 8.6]",
+            })
+    return lines
+
+
 def add_sections(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any, robot) -> None:
     """The T2 / T9 / T10 / T15 tables (and T15's figure) of one settings group."""
     t2 = t2_lines(rows)
@@ -186,6 +214,10 @@ def add_sections(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, p
     if t10:
         page.h2("T10: RCLM at four chassis heights while driving at 15 mm/s")
         page.table(t10, list(t10[0]), csv_name=f"t10{slug}.csv")
+    steer = steer_lines(store, rows)
+    if steer:
+        page.h2("Sec. 8.6: differential steering in place at a held clearance")
+        page.table(steer, list(steer[0]), csv_name=f"steer{slug}.csv")
     t15, curves = t15_lines(store, rows, robot)
     if t15:
         page.h2("T15: yaw rate while the wheelbase lengthens (differential steering, chassis lowered)")

@@ -43,6 +43,7 @@ class SRWMRSystem(System):
         "tasks": "the paper's tasks a simulation repeats (T1-T15)",
         "slopes": "success and slip vs slope 0-25 deg on very loose and loose soil (WRM vs RCM)",
         "ik": "the constraint-saturated IK at work: MC#3-#9 driven to their QP boundary, each with a -noqp twin",
+        "steer": "in-place differential steering at 0.01 and 0.02 rad/s, the clearance held (sec. 8.6)",
     }
     default_group = "tasks"
     timeout_key = "protocol.timeout"

@@ -56,12 +56,16 @@ OPERATOR = (
 )
 
 
+def _group(r: dict[str, Any]) -> str:
+    """The row's instance group (an instance no longer registered counts as a task)."""
+    es = REGISTRY.get(r["instance"])
+    return es[0].group if es else "tasks"
+
+
 def _in_tasks(r: dict[str, Any]) -> bool:
     """A row of the paper's experiments (groups ``tasks`` and ``steer``, sec. 8.6's in-place
-    steering): the slope sweep and the ``ik`` cases have their own sections (an instance no longer
-    registered counts as a task row)."""
-    es = REGISTRY.get(r["instance"])
-    return not es or es[0].group in ("tasks", "steer")
+    steering): the slope sweep and the ``ik`` cases have their own sections."""
+    return _group(r) in ("tasks", "steer")
 
 
 def _mean(rs, key):
@@ -230,7 +234,8 @@ def _clip_rows(store: Any, system: Any, rows: list[dict[str, Any]]) -> dict[str,
     """Per mode, its first stored trial (seed, instance order; slope sweeps last) in which the mode's
     :data:`CLIP_EVENT` happens, and the event's time: a distinct trial per mode, showing its action."""
     out: dict[str, tuple[dict[str, Any], float]] = {}
-    order = sorted(rows, key=lambda r: (not _in_tasks(r), r["seed"], r["instance"]))  # the paper's tasks first
+    # the paper's numbered tasks first, then its other experiments, the sweeps last
+    order = sorted(rows, key=lambda r: (_group(r) != "tasks", not _in_tasks(r), r["seed"], r["instance"]))
     for r in order:
         meth = r["method"]
         if meth in out or meth not in CLIP_EVENT:
@@ -250,7 +255,7 @@ def _snapshots(page: Any, store: Any, system: Any, rows: list[dict[str, Any]], s
 
     firsts: dict[str, dict[str, Any]] = {}
     for r in sorted(rows, key=lambda r: (r["seed"], r["instance"])):
-        if _in_tasks(r):
+        if _group(r) == "tasks":
             firsts.setdefault(r["method"], r)
     if not firsts:
         return

@@ -200,7 +200,7 @@ def steer_lines(store, rows) -> list[dict[str, Any]]:
 
 
 def add_sections(page: Any, store: Any, rows: list[dict[str, Any]], slug: str, plt: Any, robot) -> None:
-    """The T2 / T9 / T10 / T15 tables (and T15's figure) of one settings group."""
+    """The T2 / T9 / T10 / sec. 8.6 steering / T15 tables (and T15's figure) of one settings group."""
     t2 = t2_lines(rows)
     if t2:
         page.h2("T2: WCM past a wall (slip per period)")

@@ -528,7 +528,8 @@ def block_soil_cmu(src: Sources) -> Block:
 
 
 # ---------------------------------------------------------------------------------------- srwmr
-SRWMR_REPORT = "terrabench run srwmr --group tasks && terrabench report srwmr --out docs/results/srwmr"
+SRWMR_REPORT = ("terrabench run srwmr --group tasks && terrabench run srwmr --group steer && "
+                "terrabench report srwmr --out docs/results/srwmr")
 
 
 def _status_counts(rows: list[dict]) -> dict[str, int]:
@@ -554,7 +555,8 @@ def block_srwmr_tasks(src: Sources) -> Block:
                     num(r.get("body slip"), 2), num(r.get("progress m"), 2), num(r.get("time s"), 0),
                     num(r.get("energy kJ"), 2), cell(r.get("paper"))])
     statuses = ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])))
-    body = (f"`terrabench run srwmr --group tasks` ({n} trials, seed 0, on "
+    body = (f"`terrabench run srwmr --group tasks` and `--group steer` (sec. 8.6's in-place steering) ({n} trials, "
+            "seed 0, on "
             f"{len({r.get('task') for r in rows})} task instances: {statuses}): body slip s_b, progress along the "
             "task, simulated time and energy beside what the paper reports for the task. Our energies are the "
             "motors' electrical input (the motor model, `motors.HIT_MRII`; the mechanical |tau w| is the CSV's "

@@ -210,8 +210,7 @@ class CLMController(MachineController):
                 # (within contact_torque of zero): an arm that already reads a large upward torque
                 # is wedged (a tip against a gap's wall, the zoo's gap@0.3: -88 to -138 N m, swinging
                 # by more than contact_torque), no reference for a jump
-                self.in_pit[i] = tau > -cfg.contact_torque
-                self.tau_ref[i] = obs.tau_elbow[i]
+                self.in_pit[i], self.tau_ref[i] = tau > -cfg.contact_torque, tau
             return i
         if ph == 3:
             # lower: the tip target descends straight down over the transfer target (IK), so the
@@ -458,13 +457,14 @@ class CLMController(MachineController):
         tip_z, press, moving = self.tip_z, cfg.press, cfg.arm_moving
         (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
         for i, k in enumerate(ARMS):
-            if self.in_pit[i] and not self.phase[k] and obs.tau_elbow[i] - self.tau_ref[i] > cfg.contact_torque:
+            if self.in_pit[i] and not self.phase[k]:
                 # a hanging pit arm whose tip the ground has come up to (elbow torque in the contact
                 # direction): it lands there at full stretch instead of rolling with the body
-                self.in_pit[i] = False
                 rise = obs.tau_elbow[i] - self.tau_ref[i]
-                self.stretched_on[i] = f"ground under a pit arm, elbow torque {rise:+.0f} N m"
-                self._land(obs, k, i)
+                if rise > cfg.contact_torque:
+                    self.in_pit[i] = False
+                    self.stretched_on[i] = f"ground under a pit arm, elbow torque {rise:+.0f} N m"
+                    self._land(obs, k, i)
             if self.phase[k] or not (self.contact[i] or self.landing[i]):
                 continue
             if self.landing[i]:

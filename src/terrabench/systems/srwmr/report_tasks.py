@@ -39,6 +39,10 @@ T10_PAPER_KW = {"150": 0.054, "450": 0.056, "550": 0.057}
 T2_PERIODS = ("A WRM", "B WCM right", "C WRM", "D WCM left", "E WRM")
 
 
+#: seconds at the start of a steering step left out of its yaw rate: the command ramps up under MC#8
+YAW_RAMP_S = 5.0
+
+
 def _first(rows, inst, meth):
     rs = sorted((r for r in rows if r["instance"] == inst and r["method"] == meth), key=lambda r: r["seed"])
     return rs
@@ -138,9 +142,8 @@ def yaw_vs_wheelbase(ts: dict[str, np.ndarray], robot) -> tuple[np.ndarray, np.n
     for i in range(len(t)):
         P, _ = geometry(robot, (dl[i], dr[i]))
         wb[i] = 0.5 * ((P[0, 0] - P[2, 0]) + (P[1, 0] - P[3, 0]))
-    # drop the first 5 s of the step (the yaw command ramps up under MC#8)
     t0 = t[sel][0]
-    keep = sel & (t >= t0 + 5.0)
+    keep = sel & (t >= t0 + YAW_RAMP_S)
     return wb[keep], rate[keep]
 
 
@@ -172,8 +175,8 @@ def t15_lines(store, rows, robot) -> tuple[list[dict[str, Any]], list[tuple[str,
 
 
 def steer_lines(store, rows) -> list[dict[str, Any]]:
-    """Sec. 8.6's in-place steering: the mean yaw rate over the steering step (its first 5 s left
-    out, the MC#8 ramp) against the command; the paper measured about one-fifth of it."""
+    """Sec. 8.6's in-place steering: the mean yaw rate over the steering step (its first
+    :data:`YAW_RAMP_S` left out) against the command; the paper measured about one-fifth of it."""
     lines = []
     for inst, w in STEER_RATES.items():
         for r in _first(rows, inst, "rclm"):
@@ -182,7 +185,7 @@ def steer_lines(store, rows) -> list[dict[str, Any]]:
                 continue
             t = np.asarray(ts["t"], float)
             yaw = np.unwrap(np.asarray(ts["yaw"], float))
-            keep = t >= t[0] + 5.0
+            keep = t >= t[0] + YAW_RAMP_S
             if keep.sum() < 5:
                 continue
             rate = float((yaw[keep][-1] - yaw[keep][0]) / (t[keep][-1] - t[keep][0]))

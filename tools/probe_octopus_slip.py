@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from terrabench.config import parse_overrides
 from terrabench.sim.episode import Episode
 from terrabench.systems.octopus.clm import ARMS
 from terrabench.systems.octopus.scenarios import SYSTEM
@@ -23,9 +24,10 @@ def main() -> None:
     ap.add_argument("instance")
     ap.add_argument("seed", type=int)
     ap.add_argument("timeout", type=float, help="simulated seconds")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
     a = ap.parse_args()
     specs = SYSTEM.plan(methods=["clm"], instances=[a.instance], seeds=a.seed + 1,
-                        overrides={"protocol.timeout": a.timeout})
+                        overrides={**parse_overrides(a.set), "protocol.timeout": a.timeout})
     spec = next(s for s in specs if s.seed == a.seed)
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)

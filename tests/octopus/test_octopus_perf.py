@@ -327,3 +327,76 @@ def test_per_tick_float_shortcuts_are_the_old_formulas(walking):
     sel, rg, f, _ = task._contacts()
     fn = f[:, 0]
     assert task.normal_load() == (float(fn.sum()), float(fn[task._buf[3][:len(sel)] >= 0].sum()))
+
+
+def test_compiled_arm_moving_and_pace_are_the_python_formulas():
+    """The walk's compiled passes (clm._hold: eqs. 22-27 for the supports; clm._pace_bound: the
+    paced crawler speed) give the bits of their formulas on Python floats (Python's hypot, ``**``
+    and min/max), beyond-range arms and landing casters included."""
+    from terrabench.systems.octopus.clm import _hold, _pace_bound
+
+    cfg = SYSTEM.load_config(SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1)[0].config)
+    rb, cc = cfg.robot, cfg.clm
+    mx, my, _ = rb.arm_mount
+    signs = [{"LF": (1, 1), "RF": (1, -1), "LR": (-1, 1), "RR": (-1, -1)}[k] for k in ARMS]
+    rmin = np.array([cc.reach_min[0 if sx > 0 else 1] for sx, _ in signs])
+    mount = np.array([[sx * mx, sy * my] for sx, sy in signs])
+    ikc = np.array([ak.ik_constants(rb, k) for k in ARMS])
+    rmax = cc.reach_max
+    rng = np.random.default_rng(11)
+    beyond_seen = 0
+    for _ in range(3000):
+        foot = np.column_stack([mount + rng.normal(0, 0.3, (4, 2)), rng.normal(-0.3, 0.1, 4)])
+        tip = rng.normal(0, 0.3, (4, 3))
+        on, shift, landing = (int(v) for v in rng.integers(0, 16, 3))
+        dx, press = float(rng.uniform(0, 0.01)), float(cc.press)
+        want_foot, want_arm, want_bits = foot.tolist(), np.zeros((4, 3)), 0
+        for i in range(4):
+            if not on >> i & 1:
+                continue
+            f = want_foot[i]
+            beyond = f[0] < rmin[i] or math.hypot(f[0] - signs[i][0] * mx, f[1] - signs[i][1] * my) > rmax
+            want_bits |= beyond << i
+            if shift >> i & 1 and not (landing >> i & 1 and beyond):
+                f[0] -= dx
+            f[2] = tip[i, 2] - press
+            want_arm[i] = ak.ik_f(f[0], f[1], f[2], ikc[i])
+        arm = np.zeros((4, 3))
+        got = _hold(foot, on, shift, landing, dx, tip, press, ikc, rmin, mount, rmax, arm)
+        assert got == want_bits and foot.tolist() == want_foot and np.array_equal(arm, want_arm)
+        beyond_seen += bin(got).count("1")
+        # the pace: the travels left, sorted, over the waits
+        rem, period = float(rng.uniform(0, 2)), float(rng.uniform(0.5, 3))
+        left = []
+        for i in range(4):
+            if on >> i & 1:
+                fx, fy, _ = foot[i].tolist()
+                sx, sy = signs[i]
+                dy2 = (fy - sy * my) ** 2
+                left.append(0.0 if dy2 >= rmax * rmax else
+                            max(0.0, min(fx - rmin[i], fx - sx * mx + math.sqrt(rmax * rmax - dy2))))
+        v = math.inf
+        for n, d in enumerate(sorted(left)):
+            if rem + n * period > 0.0:
+                v = min(v, d / (rem + n * period))
+        assert _pace_bound(foot, on, rem, period, rmin, mount, rmax, 2.0) == v
+    assert beyond_seen > 100  # the beyond-range branch is exercised
+
+
+def test_travel_left_squares_with_libms_pow():
+    """clm._travel_left's square is Python's float ``**`` (libm's pow), not x * x, which LLVM would
+    put in for a constant exponent: the exponent comes in at run time. Checked on values where the
+    two squares differ."""
+    from terrabench.systems.octopus.clm import _travel_left
+
+    rng = np.random.default_rng(12)
+    rmax, my, fx = 0.55, 0.17, 0.3
+    found = 0
+    for fy in rng.uniform(-0.7, 0.7, 400_000).tolist():
+        if (fy - my) ** 2 == (fy - my) * (fy - my):
+            continue
+        found += 1
+        want = max(0.0, min(fx - 0.05, fx - 0.2 + math.sqrt(rmax * rmax - (fy - my) ** 2))) \
+            if (fy - my) ** 2 < rmax * rmax else 0.0
+        assert _travel_left(fx, fy, 0.05, 0.2, my, rmax, 2.0) == want
+    assert found > 20

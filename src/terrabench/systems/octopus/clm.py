@@ -15,6 +15,7 @@ import math
 import numba
 import numpy as np
 
+from terrabench.sim.pymath import hypot
 from terrabench.systems.base import MachineController, ModeMachine
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.controller_config import CLMConfig
@@ -50,6 +51,70 @@ def _within(c, q, m):  # pragma: no cover
             c[a, b] = v if (v <= hi or math.isnan(v)) else hi
 
 
+@numba.njit(cache=True)
+def _hold(foot, on, shift, landing, dx, tip_r, press, ikc, rmin, mount, rmax, arm):  # pragma: no cover
+    """The arm moving of eqs. 22-27 for the supporting arms (bits ``on``, 1 << arm index), compiled:
+    each foothold (``foot`` (4, 3) in {R}, updated in place) moves back by ``dx`` where ``shift``,
+    its height set ``press`` below the sensed tip (``tip_r`` (4, 3), z), and the arm's joints
+    (``arm`` rows) put the tip there (:func:`~.arm_kinematics.ik_f`). Returns the bits of the arms
+    whose foothold was beyond the range before the move: behind ``rmin[i]`` in x or further than
+    ``rmax`` from the mount (``mount[i]`` = (sx mx, sy my); Python's hypot). A landing arm
+    (``landing``) whose foothold is beyond is a caster: it does not move (the caller marks it)."""
+    out = 0
+    for i in range(4):
+        if not on >> i & 1:
+            continue
+        fx, fy = foot[i, 0], foot[i, 1]
+        beyond = fx < rmin[i] or hypot(fx - mount[i, 0], fy - mount[i, 1]) > rmax
+        if beyond:
+            out |= 1 << i
+        if shift >> i & 1 and not (landing >> i & 1 and beyond):
+            foot[i, 0] = fx - dx
+        foot[i, 2] = tip_r[i, 2] - press
+        arm[i, 0], arm[i, 1], arm[i, 2] = ak.ik_f(foot[i, 0], fy, foot[i, 2], ikc[i])
+    return out
+
+
+@numba.njit(cache=True)
+def _travel_left(fx, fy, rmin, mx, my, rmax, two):  # pragma: no cover
+    """How far (m) the body can still move forward before a foothold at (fx, fy) in {R} leaves its
+    arm's range (``rmin`` the least x, ``rmax`` from the mount at (mx, my)), the foothold moving
+    back. ``two`` is 2.0 passed at run time: the formula's square is libm's pow (Python's float
+    ``**``), which LLVM would rewrite as x * x for a constant exponent (not the same bits)."""
+    left = fx - rmin
+    dy2 = (fy - my) ** two
+    if dy2 >= rmax * rmax:
+        return 0.0
+    # the reach circle's rear crossing: fx - d - sx mx = -sqrt(rmax^2 - dy^2)
+    d = fx - mx + math.sqrt(rmax * rmax - dy2)
+    d = d if d < left else left  # Python's min(left, d)
+    return d if d > 0.0 else 0.0  # max(0.0, d)
+
+
+@numba.njit(cache=True)
+def _pace_bound(foot, on, rem, period, rmin, mount, rmax, two):  # pragma: no cover
+    """:meth:`CLMController._pace`'s bound over the footholds ``on`` (bits): the travels left,
+    sorted, the k-th (from 0) over ``rem + k period`` where that wait is positive, the least."""
+    left = np.empty(4)
+    n = 0
+    for i in range(4):
+        if on >> i & 1:
+            d = _travel_left(foot[i, 0], foot[i, 1], rmin[i], mount[i, 0], mount[i, 1], rmax, two)
+            j = n
+            while j > 0 and left[j - 1] > d:
+                left[j] = left[j - 1]
+                j -= 1
+            left[j] = d
+            n += 1
+    v = math.inf
+    for k in range(n):
+        wait = rem + k * period
+        if wait > 0.0:
+            x = left[k] / wait
+            v = x if x < v else v  # Python's min(v, x)
+    return v
+
+
 # ---------------------------------------------------------------------------- controller
 WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
 #: names of the controller states (the logged ``mode`` codes) in events and timelines
@@ -65,7 +130,7 @@ class CLMController(MachineController):
         self.cfg, self.robot, self.dt = cfg, robot, dt
         self.cmd = Command()
         self.targets = {k: self._target(k) for k in ARMS}
-        self._ikc = [ak.ik_constants(robot, k) for k in ARMS]  # each arm's IK constants (ak.ik_f)
+        self._ikc = np.array([ak.ik_constants(robot, k) for k in ARMS])  # each arm's IK constants (ak.ik_f)
         self._fkc = ak.fk_constants(robot)
         self._tgt_q = {k: ak.ik(self.targets[k], robot, k) for k in ARMS}  # the transfer targets' joints
         self.phase = {k: 0 for k in ARMS}  # 0 support, 1-3 transfer phases
@@ -75,7 +140,11 @@ class CLMController(MachineController):
         self._tip_c = np.zeros((4, 3))  # the tips in {C} this tick (tip_c), None until first used
         self._att = (0.0, 0.0)  # this tick's IMU (roll, pitch) (rad)
         self.tip_r = np.zeros((4, 3))
-        self.foot = [[0.0, 0.0, 0.0] for _ in ARMS]  # footholds of the supporting arms in {R} (m)
+        self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
+        # each arm's range: the least x of its foothold and its mount (sx mx, sy my) (_hold)
+        mx, my, _ = robot.arm_mount
+        self._rmin = np.array([cfg.reach_min[0 if CORNER[k][0] > 0 else 1] for k in ARMS], dtype=float)
+        self._mount = np.array([[CORNER[k][0] * mx, CORNER[k][1] * my] for k in ARMS], dtype=float)
         self.tip_z = self.prev_tip_z = [0.0] * 4  # tip heights in {R} now and a tick ago (m)
         self.low_z = np.zeros(4)
         self.phase_t = np.zeros(4)  # time in the current lift/swing phase (s)
@@ -310,8 +379,8 @@ class CLMController(MachineController):
         self.phase[k] = 0
         self.landing[i], self.still[i] = True, 0
         p = self.tip_r[i].copy()
-        self.foot[i] = p.tolist()
-        self.land_z[i] = self.foot[i][2]
+        self.foot[i] = p
+        self.land_z[i] = float(p[2])
         self.cmd.arm[i] = ak.ik(p - np.array([0.0, 0.0, cfg.press]), self.robot, k)
 
     def _settle(self, obs, k: str, i: int) -> None:
@@ -357,21 +426,6 @@ class CLMController(MachineController):
         if len(self.transfer_times) == 4:
             self.gait_period = sum(self.transfer_times) / 4
 
-    def _travel_left(self, i: int, k: str) -> float:
-        """How far (m) the body can still move forward before arm ``i``'s foothold leaves its range
-        (``reach_min`` behind, ``reach_max`` from the mount), the foothold moving back in {R}."""
-        cfg = self.cfg
-        mx, my, _ = self.robot.arm_mount
-        (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
-        fx, fy, _ = self.foot[i]
-        sx, sy = CORNER[k]
-        left = fx - (rmin_front if sx > 0 else rmin_rear)
-        dy2 = (fy - sy * my) ** 2
-        if dy2 >= rmax * rmax:
-            return 0.0
-        # the reach circle's rear crossing: fx - d - sx mx = -sqrt(rmax^2 - dy^2)
-        return max(0.0, min(left, fx - sx * mx + math.sqrt(rmax * rmax - dy2)))
-
     def _pace(self, t: float) -> float:
         """``gait_pace``: the crawler speed (m/s) at which no foothold need leave its range before
         its arm's turn: at best the k-th nearest to its range end (travel left d_k) has its turn
@@ -385,14 +439,11 @@ class CLMController(MachineController):
             return period
         moving = any(self.phase.values())
         rem = max(period - (t - self.transfer_t0), 0.25 * period) if moving else max(self.pause_until - t, 0.0)
-        left = sorted(self._travel_left(i, k) for i, k in enumerate(ARMS)
-                      if self.contact[i] and not self.phase[k] and not self.caster[i])
-        v = math.inf
-        for n, d in enumerate(left):
-            wait = rem + n * period
-            if wait > 0.0:
-                v = min(v, d / wait)
-        return v
+        on = 0
+        for i, k in enumerate(ARMS):
+            if self.contact[i] and not self.phase[k] and not self.caster[i]:
+                on |= 1 << i
+        return _pace_bound(self.foot, on, rem, period, self._rmin, self._mount, self.cfg.reach_max, 2.0)
 
     def _feel(self, obs) -> float:
         """``flipper_feel``: the body's advance (m) over the last tick read from the front flippers
@@ -448,16 +499,30 @@ class CLMController(MachineController):
         rest of the load.
         """
         cfg = self.cfg
-        mx, my, _ = self.robot.arm_mount
         a = self.tp - obs.pitch
         dx = v * self.dt * math.cos(a)
         if dx > dx_max:  # the front feelers read less advance than the odometry (flipper_feel)
             dx = max(dx_max, 0.0)
+        moving, phase, contact, caster = cfg.arm_moving, self.phase, self.contact, self.caster
+        hold = self._hold
+        if not (any(self.landing) or any(self.in_pit)):
+            # every support settled (most ticks): the four in one compiled pass
+            on = shift = 0
+            for i, k in enumerate(ARMS):
+                if contact[i] and not phase[k]:
+                    on |= 1 << i
+                    if moving and not caster[i]:
+                        shift |= 1 << i
+            bits = hold(on, shift, 0, dx)
+            out = False
+            for i, k in enumerate(ARMS):
+                if bits >> i & 1 and not caster[i]:
+                    out = self._beyond(obs, i, k) or out
+            return out
+        # an arm landing or hanging in a pit: arm by arm, its events in order with the others'
         out = False
-        tip_z, press, moving = self.tip_z, cfg.press, cfg.arm_moving
-        (rmin_front, rmin_rear), rmax = cfg.reach_min, cfg.reach_max
         for i, k in enumerate(ARMS):
-            if self.in_pit[i] and not self.phase[k]:
+            if self.in_pit[i] and not phase[k]:
                 # a hanging pit arm whose tip the ground has come up to (elbow torque in the contact
                 # direction): it lands there at full stretch instead of rolling with the body
                 rise = obs.tau_elbow[i] - self.tau_ref[i]
@@ -465,42 +530,50 @@ class CLMController(MachineController):
                     self.in_pit[i] = False
                     self.stretched_on[i] = f"ground under a pit arm, elbow torque {rise:+.0f} N m"
                     self._land(obs, k, i)
-            if self.phase[k] or not (self.contact[i] or self.landing[i]):
+            if phase[k] or not (contact[i] or self.landing[i]):
                 continue
             if self.landing[i]:
                 self._settle(obs, k, i)
-                if self.phase[k]:  # not a contact: lowering again
+                if phase[k]:  # not a contact: lowering again
                     continue
-            f = self.foot[i]
-            sx, sy = CORNER[k]
-            beyond = f[0] < (rmin_front if sx > 0 else rmin_rear) or math.hypot(f[0] - sx * mx, f[1] - sy * my) > rmax
-            if self.landing[i]:
+            landing = self.landing[i]
+            bit = 1 << i
+            beyond = bool(hold(bit, bit if moving and (landing or not caster[i]) else 0, bit if landing else 0, dx))
+            if landing:
                 # a foothold already beyond the range where the arm landed (a pitched body's
                 # descent ends far out): no transfer now brings it back, so the crawlers do not
                 # wait for it; the arm rolls with the body (a caster) until its next turn
-                self.caster[i] = beyond
-            if moving and not self.caster[i]:
-                f[0] -= dx
-            f[2] = tip_z[i] - press
-            self.cmd.arm[i] = ak.ik_f(f[0], f[1], f[2], self._ikc[i])
-            if beyond and not self.caster[i] and cfg.blocked_clear and self.stop_case[i] == "blocked":
-                # case 1 (an obstacle between the arm and its target): the same transfer stops at the
-                # same obstacle, so waiting for it stops the crawlers every few cm; the arm lifts
-                # clear (no support, no drag) and is transferred next while the crawlers drive on
-                self._lift_clear(obs, i, k, "case-1 foothold out of range: lifted clear, the crawlers go on")
-                if k in self.queue:
-                    self.queue.remove(k)
-                self.queue.insert(0, k)
-                self.queue_reason[k] = "lifted clear after a case-1 foothold: transferred next"
-                continue
-            if beyond and not self.caster[i]:
-                out = True
-                self.out_arm = k
-                if k in self.queue[1:]:
-                    # the crawlers wait for this arm: its transfer comes first
-                    self.queue.remove(k)
-                    self.queue.insert(0, k)
+                caster[i] = beyond
+            if beyond and not caster[i]:
+                out = self._beyond(obs, i, k) or out
         return out
+
+    def _hold(self, on: int, shift: int, landing: int, dx: float) -> int:
+        """:func:`_hold` on this controller's footholds, tips, constants and arm command."""
+        cfg = self.cfg
+        return _hold(self.foot, on, shift, landing, dx, self.tip_r, cfg.press, self._ikc, self._rmin,
+                     self._mount, cfg.reach_max, self.cmd.arm)
+
+    def _beyond(self, obs, i: int, k: str) -> bool:
+        """A supporting arm whose foothold has left its range (not a caster): a case-1 foothold lifts
+        clear and is transferred next (returns False); any other makes the crawlers wait for its
+        transfer, which comes first (returns True)."""
+        if self.cfg.blocked_clear and self.stop_case[i] == "blocked":
+            # case 1 (an obstacle between the arm and its target): the same transfer stops at the
+            # same obstacle, so waiting for it stops the crawlers every few cm; the arm lifts
+            # clear (no support, no drag) and is transferred next while the crawlers drive on
+            self._lift_clear(obs, i, k, "case-1 foothold out of range: lifted clear, the crawlers go on")
+            if k in self.queue:
+                self.queue.remove(k)
+            self.queue.insert(0, k)
+            self.queue_reason[k] = "lifted clear after a case-1 foothold: transferred next"
+            return False
+        self.out_arm = k
+        if k in self.queue[1:]:
+            # the crawlers wait for this arm: its transfer comes first
+            self.queue.remove(k)
+            self.queue.insert(0, k)
+        return True
 
     # ---------------------------------------------------------------- climbing
     def _h_over(self) -> float:
@@ -827,7 +900,7 @@ class CLMController(MachineController):
         if not self.started:
             self._start(obs)
         # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
-        self.tip_r = ak.fk_all(obs.q_arm, self.robot, self._fkc)
+        self.tip_r = ak.tips(obs.q_arm, ak.SIGNS, self._fkc)
         self._tip_c, self._att = None, (obs.roll, obs.pitch)  # {C}: on first use this tick (tip_c)
         self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].tolist()
         self.heading += obs.yaw_rate * self.dt

@@ -11,6 +11,8 @@ import math
 import numba
 import numpy as np
 
+from terrabench.sim.pymath import hypot
+
 
 @numba.njit(cache=True)
 def _hull(xs, ys, out):  # pragma: no cover
@@ -63,21 +65,21 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
 
 @numba.njit(cache=True)
 def _margin_parts(pts, cx, cy):  # pragma: no cover
-    """The margin's work but its last distance, compiled: the hull of the points (:func:`_hull`),
-    whether (cx, cy) is inside it, and the offsets (dx, dy) from (cx, cy) to the nearest point of
-    each hull edge whose squared length is within 1e-9 (relative) of the least, into ``cand``;
-    returns (hull length, inside, candidates, ``cand``). The caller takes Python's ``math.hypot`` of those
-    few (its own algorithm, not libm's), so the margin keeps the bits of the all-Python version:
-    an edge whose hypot is the least has a squared distance within ~1e-15 of the least (a
-    hull vertex is the nearest point of both its edges, each computed its own way)."""
+    """The margin's work, compiled: the hull of the points (:func:`_hull`), whether (cx, cy) is
+    inside it, and the distance from (cx, cy) to the nearest point of the hull's edges; returns
+    (hull length, inside, distance). The distance is the least ``hypot`` (Python's own algorithm,
+    :func:`terrabench.sim.pymath.hypot`, so the margin keeps the bits of the all-Python version)
+    of the offsets of the edges whose squared length is within 1e-9 (relative) of the least: an
+    edge whose hypot is the least has a squared distance within ~1e-15 of the least (a hull
+    vertex is the nearest point of both its edges, each computed its own way)."""
     n = pts.shape[0]
     hull, cand = np.empty((2 * n + 1, 2)), np.empty((2 * n + 1, 2))
     m = _hull(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), hull)
     if m == 0:
-        return 0, False, 0, cand
+        return 0, False, math.nan
     if m == 1:
-        cand[0, 0], cand[0, 1] = cx - hull[0, 0], cy - hull[0, 1]
-        return 1, False, 1, cand
+        h = hypot(cx - hull[0, 0], cy - hull[0, 1])
+        return 1, False, (h if h < math.inf else math.inf)  # Python's min(inf, h): NaN gives inf
     ne = 1 if m == 2 else m
     inside = m > 2
     best = math.inf
@@ -98,13 +100,13 @@ def _margin_parts(pts, cx, cy):  # pragma: no cover
             best = sq
         if m > 2 and ex * (cy - ay) - ey * (cx - ax) < 0:
             inside = False
-    k = 0
+    d = math.inf
     for a in range(ne):
         dx, dy = cand[a, 0], cand[a, 1]
         if dx * dx + dy * dy <= best * (1.0 + 1e-9) + 1e-300:
-            cand[k, 0], cand[k, 1] = dx, dy
-            k += 1
-    return m, inside, k, cand
+            h = hypot(dx, dy)
+            d = h if h < d else d  # Python's min(d, h)
+    return m, inside, d
 
 
 def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
@@ -112,17 +114,13 @@ def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
 
     Positive inside, zero on an edge, negative outside (the distance to the nearest edge). Fewer
     than three non-collinear support points give no area: the margin is minus the distance to
-    the points' hull (a segment or a point), i.e. never positive. Compiled
-    (:func:`_margin_parts`) but the last distance, Python's ``math.hypot``.
+    the points' hull (a segment or a point), i.e. never positive. Compiled (:func:`_margin_parts`).
     """
     pts = support_xy if isinstance(support_xy, np.ndarray) and support_xy.dtype == np.float64 else \
         np.asarray(support_xy, float)
-    m, inside, k, cand = _margin_parts(pts.reshape(-1, 2), float(cog_xy[0]), float(cog_xy[1]))
+    m, inside, d = _margin_parts(pts.reshape(-1, 2), float(cog_xy[0]), float(cog_xy[1]))
     if m == 0:
         return float("nan")
-    d = math.inf
-    for dx, dy in cand[:k].tolist():
-        d = min(d, math.hypot(dx, dy))
     return d if inside else -d
 
 

@@ -52,6 +52,14 @@ def _within(c, q, m):  # pragma: no cover
 
 
 @numba.njit(cache=True)
+def _out_of_range(fx, fy, rmin, mx, my, rmax, behind):  # pragma: no cover
+    """Whether a foothold at (fx, fy) in {R} has left its arm's range: further than ``rmax`` from
+    the mount at (mx, my) (Python's hypot), or, where ``behind`` is tested, behind ``rmin`` in x.
+    The one range test of the walk (:func:`_hold`) and the climb."""
+    return (behind and fx < rmin) or hypot(fx - mx, fy - my) > rmax
+
+
+@numba.njit(cache=True)
 def _hold(foot, on, shift, landing, dx, tip_r, press, ikc, rmin, mount, rmax, arm):  # pragma: no cover
     """The arm moving of eqs. 22-27 for the supporting arms (bits ``on``, 1 << arm index), compiled:
     each foothold (``foot`` (4, 3) in {R}, updated in place) moves back by ``dx`` where ``shift``,
@@ -65,7 +73,7 @@ def _hold(foot, on, shift, landing, dx, tip_r, press, ikc, rmin, mount, rmax, ar
         if not on >> i & 1:
             continue
         fx, fy = foot[i, 0], foot[i, 1]
-        beyond = fx < rmin[i] or hypot(fx - mount[i, 0], fy - mount[i, 1]) > rmax
+        beyond = _out_of_range(fx, fy, rmin[i], mount[i, 0], mount[i, 1], rmax, True)
         if beyond:
             out |= 1 << i
         if shift >> i & 1 and not (landing >> i & 1 and beyond):
@@ -687,7 +695,6 @@ class CLMController(MachineController):
         cs, sn = math.cos(dth), math.sin(dth)
         a = self.pitch0 - obs.pitch
         lx, lz = v * self.dt * math.cos(a), v * self.dt * math.sin(a)
-        mx, my, _ = r.arm_mount
         px, pz = piv
         for i, k in enumerate(ARMS):
             if self.lifted[i]:
@@ -736,9 +743,8 @@ class CLMController(MachineController):
                 # at lift_dz a tick)
                 tz = min(tz + cfg.lift_dz, tip_z - cfg.climb_press)
             t[:] = tx, ty, tz
-            sx, sy = CORNER[k]
-            beyond = ((tx < cfg.reach_min[0 if sx > 0 else 1] and not (front and not self.over))
-                      or math.hypot(tx - sx * mx, ty - sy * my) > cfg.reach_max)
+            (mx, my), behind = self._mount[i].tolist(), not (front and not self.over)
+            beyond = _out_of_range(tx, ty, self._rmin[i], mx, my, cfg.reach_max, behind)
             # front_support off: a front arm over the top that has unloaded (its target back at the
             # press) lifts clear and the front crawlers carry the front alone; on (the default), it
             # stays a support on the top at the bounded press until the release (Fig. 9f-h)

@@ -121,4 +121,7 @@ def _plot(values: dict[tuple[float, str], list[float]], metric: str, path: Path)
 
 
 if __name__ == "__main__":
+    from terrabench import portable
+
+    portable.reexec_pinned()  # trials on the stored rows' code paths (terrabench.portable)
     main()

@@ -51,4 +51,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    from terrabench import portable
+
+    portable.reexec_pinned()  # trials on the stored rows' code paths (terrabench.portable)
     main()

@@ -14,7 +14,10 @@ import sys
 import numpy as np
 
 import terrabench.systems.octopus.clm as clm
+from terrabench import portable
 from terrabench.catalog import system
+
+portable.reexec_pinned()  # trials on the stored rows' code paths (terrabench.portable)
 
 sev = sys.argv[1] if len(sys.argv) > 1 else "0.15"
 zoo = system("zoo")

@@ -124,7 +124,7 @@ def _plot(curves: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]], path: 
     for ax, task in zip(axes[0], tasks):
         for (t, r), (time, x) in sorted(curves.items()):
             if t == task:
-                ax.plot(time, x, lw=1.2, label=f"rim ratio {r:g}")
+                ax.plot(time, x, lw=1.2, label=f"rim ratio {r:.3g}" + (" (the paper's, default)" if r == DEFAULT else ""))
         ax.set_title(f"{task}, RCM")
         ax.set_xlabel("simulated time s")
         ax.grid(alpha=0.3)

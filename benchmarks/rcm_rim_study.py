@@ -124,14 +124,14 @@ def _plot(curves: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]], path: 
     for ax, task in zip(axes[0], tasks):
         for (t, r), (time, x) in sorted(curves.items()):
             if t == task:
-                ax.plot(time, x, lw=1.2, label=f"rim ratio {r:.3g}" + (" (the paper's, default)" if r == DEFAULT else ""))
+                tag = " (the paper's, default)" if r == DEFAULT else ""
+                ax.plot(time, x, lw=1.2, label=f"rim ratio {r:.3g}{tag}")
         ax.set_title(f"{task}, RCM")
         ax.set_xlabel("simulated time s")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     axes[0][0].set_ylabel("body x m")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
 

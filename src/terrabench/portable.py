@@ -24,11 +24,12 @@ before any code runs; numpy, OpenBLAS and numba read theirs on import), so they 
 trial processes start: the ``terrabench`` command re-executes itself once with them
 (:func:`reexec_pinned`), its spawned workers inherit them, and Ray workers get them through their
 ``runtime_env`` (:func:`pinned_environ`). The study and probe scripts under ``benchmarks/`` and
-``tools/`` that run trials re-execute themselves the same way (``tests/test_scripts_pinned.py``). A library user (a notebook, a learner around
-``gymnasium.make``) gets the same bits as the stored rows by starting Python with the same
-variables (``eval "$(terrabench pins)"`` exports them); :func:`state` says whether this process
-is pinned and every stored row carries it (``info.host.pinned``). ``TERRABENCH_NATIVE_CPU=1`` turns
-the pins off (for timing the native paths side by side: ``terrabench perf``).
+``tools/`` that run trials re-execute themselves the same way (``tests/test_scripts_pinned.py``).
+A library user (a notebook, a learner around ``gymnasium.make``) gets the same bits as the
+stored rows by starting Python with the same variables (``eval "$(terrabench pins)"`` exports
+them); :func:`state` says whether this process is pinned and every stored row carries it
+(``info.host.pinned``). ``TERRABENCH_NATIVE_CPU=1`` turns the pins off (for timing the native
+paths side by side: ``terrabench perf``).
 """
 
 from __future__ import annotations

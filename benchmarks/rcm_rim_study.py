@@ -30,6 +30,7 @@ from terrabench.benchmark.runner import run_trials
 from terrabench.benchmark.store import ResultsStore
 from terrabench.catalog import system as get_system
 from terrabench.systems.srwmr.config import SupervisorConfig
+from terrabench.systems.srwmr.control import MODE_CODE
 
 RATIO = "supervisor.rcm_rim_ratio"
 DEFAULT = SupervisorConfig().rcm_rim_ratio  # the paper's 7.0 / 3.6, where it is declared
@@ -47,18 +48,14 @@ def lowering_front_pull(ts: dict[str, np.ndarray], window: tuple[float, float]) 
     return float(np.mean([ts[k][rows].mean() for k in FRONT]))
 
 
-def rcm_step_slip(metrics: dict, events: list) -> float:
+def rcm_step_slip(metrics: dict, ts: dict[str, np.ndarray]) -> float:
     """Body slip of the plan step in which RCM first runs (T4's first, T11's second: the step the
-    supervisor inserts when WRM stalls); nan when RCM never ran. A step's span is read from the
-    stored step times, RCM's start from the trial's events."""
-    start = next((e[0] for e in events if e[2] == "RCM"), None)
-    if start is None:
+    supervisor inserts when WRM stalls), read from the stored ``mode`` and ``step`` series; nan
+    when RCM never ran."""
+    rcm = np.flatnonzero(ts["mode"] == MODE_CODE["RCM"])
+    if not rcm.size:
         return float("nan")
-    t, k = 0.0, 0
-    while f"step{k + 1}_time" in metrics and t + metrics[f"step{k}_time"] <= start + 1e-6:
-        t += metrics[f"step{k}_time"]
-        k += 1
-    v = metrics.get(f"step{k}_slip")
+    v = metrics.get(f"step{int(ts['step'][rcm[0]])}_slip")
     return float("nan") if v is None else float(v)
 
 
@@ -100,7 +97,7 @@ def main() -> None:
                       for T in (200, 400, 800, a.timeout) if T <= ts["t"][-1]}
                 table.append({"task": row["instance"], "rim ratio": r, "status": row["status"],
                               "sim time s": round(m["sim_time"], 1), "progress m": round(m["progress"], 3),
-                              "RCM step body slip": round(rcm_step_slip(m, row["info"].get("events", [])), 3),
+                              "RCM step body slip": round(rcm_step_slip(m, ts), 3),
                               f"front pull, lowering {a.window} s, N": round(lowering_front_pull(ts, window), 1),
                               "elec kJ": round(m["energy_elec_kJ"], 1), **at})
     cols = list(dict.fromkeys(k for row in table for k in row))

@@ -434,7 +434,7 @@ def block_octopus(src: Sources) -> Block:
                  f"against its {span([p for _, p in margins], 2, ' m')}.")
     from terrabench.systems.octopus.report import LOW_COLUMN
 
-    counts = [(t, by[(t, lead)].get(LOW_COLUMN)) for t in tasks if (t, lead) in by]
+    counts = [(t, by[(t, lead)].get(LOW_COLUMN) or "") for t in tasks if (t, lead) in by]
     if counts and all(k for _, k in counts):  # a tasks.csv written before the column has none
         low = [f"{t} {k}" for t, k in counts if not k.startswith("0/")]
         body += (f" Its {LOW_COLUMN.replace('trials with ', 'trials with a ')} (on the terraces the release "

@@ -205,13 +205,15 @@ def run(
     timeout: Optional[float] = typer.Option(None, help="simulated-time limit per trial (s)"),
     threshold: Optional[float] = typer.Option(None, help="success distance to the target (m)"),
     set_: list[str] = typer.Option([], "--set", help="config override KEY=VALUE (repeatable)"),
+    vary: list[str] = typer.Option([], "--vary", help="run every value of a setting, KEY=V1,V2,... (repeatable: "
+                                   "every combination); the variants side by side at the end, as `compare`"),
     quiet: bool = typer.Option(False, help="no per-trial table"),
 ) -> None:
     """Run a system's trials (skipping those already stored) and print its table."""
     from terrabench.benchmark.runner import BACKENDS, run_trials
     from terrabench.benchmark.store import ResultsStore
     from terrabench.catalog import system as get_system
-    from terrabench.config import parse_overrides
+    from terrabench.config import parse_overrides, parse_variations
 
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
@@ -234,9 +236,15 @@ def run(
     _limit_overrides(sysobj, overrides, timeout=timeout, threshold=threshold)
     if group is not None and not group.strip():
         raise ValueError(f"--group was given an empty value; valid: {', '.join(list(sysobj.groups) + ['all'])}")
-    specs = sysobj.plan(methods=_split(methods, "--methods", _valid_methods(sysobj)),
-                        instances=_split(terrains, "--terrains", _valid_instances(sysobj)),
-                        group=group, seeds=seeds, overrides=overrides)
+    request = dict(methods=_split(methods, "--methods", _valid_methods(sysobj)),
+                   instances=_split(terrains, "--terrains", _valid_instances(sysobj)), group=group, seeds=seeds)
+    variations = parse_variations(vary)
+    if variations:
+        from terrabench.benchmark.plan import plan_variations
+
+        specs, _ = plan_variations(sysobj, vary=variations, overrides=overrides, **request)
+    else:
+        specs = sysobj.plan(overrides=overrides, **request)
     if not specs:  # e.g. a method that does not apply to the group: an error, not a silent no-op
         from terrabench.describe import methods_for
 
@@ -258,7 +266,12 @@ def run(
         rows = st.rows(keys=[s.key for s in specs])
     if not quiet:
         console.print(_trial_table(rows, sysobj))
-    console.print(sysobj.summarize(rows))
+    if variations:  # the system's summary would mix the variants: them side by side instead
+        console.print(_compare_table(rows, sysobj, None))
+        console.print(f"more metrics: terrabench compare {sysobj.id} --store {store} --metrics NAME,...",
+                      highlight=False)
+    else:
+        console.print(sysobj.summarize(rows))
     console.print(f"{summary.describe()}; store: {store}", highlight=False)
     if summary.interrupted:
         err_console.print("[yellow]interrupted:[/] finished trials are stored; run the same command to resume.")
@@ -348,6 +361,74 @@ def _trial_table(rows, sysobj):
         shown = " ".join(f"{k}={m[k]:.3g}" for k in keys if k in m)
         t.add_row(r["method"], r["instance"], str(r["seed"]), r["status"], shown, f"{r['wall_time']:.1f}")
     return t
+
+def _compare_table(rows, sysobj, metrics):
+    """The variants side by side (:mod:`terrabench.report.compare`); ``metrics`` None: the
+    system's headline metrics that the rows have (every numeric one when it names none)."""
+    from rich.table import Table
+
+    from terrabench.report import compare as cmp
+
+    if metrics is None:
+        have = cmp.metric_names(rows)
+        metrics = [m for m in sysobj.headline_metrics if m in have] or have
+    lines = cmp.compare(rows, sysobj, metrics)
+    t = Table(title="variants side by side: median \\[min, max] over seeds")
+    for c in ["instance", "variant", "statuses"] + list(metrics):
+        t.add_column(c, overflow="fold")  # a label is what tells the lines apart: never cut
+    for ln in lines:
+        t.add_row(ln.instance, ln.label, cmp.statuses_text(ln), *(cmp.cell_text(ln.metrics[m]) for m in metrics))
+    return t
+
+
+@app.command()
+@friendly
+def compare(
+    system: str = typer.Argument(..., help="system id"),
+    store: Path = typer.Option(DEFAULT_STORE, help="DuckDB results file"),
+    methods: Optional[str] = typer.Option(None, help="comma-separated method ids (default: every stored one)"),
+    terrains: Optional[str] = typer.Option(None, help="comma-separated instance ids (default: every stored one)"),
+    group: Optional[str] = typer.Option(None, help="instance group (with no --terrains)"),
+    metrics: Optional[str] = typer.Option(None, help="comma-separated metric names (default: the system's "
+                                          "headline metrics; every numeric one in the CSV)"),
+    out: Optional[Path] = typer.Option(None, help="also write the lines as CSV here"),
+) -> None:
+    """Stored trials side by side: one line per (instance, config variant), statuses and metrics."""
+    from terrabench.benchmark.store import ResultsStore
+    from terrabench.catalog import system as get_system
+    from terrabench.paths import check_out_file
+    from terrabench.report import compare as cmp
+
+    sysobj = get_system(system)
+    if out is not None:
+        check_out_file(out, flag="--out", suffixes=(".csv",))
+    if not store.exists():
+        raise ValueError(f"--store {str(store)!r} does not exist; run `terrabench run {sysobj.id}` into it first")
+    if group is not None and terrains is not None:
+        raise ValueError("give either --terrains or --group, not both")
+    wanted_methods = _split(methods, "--methods", _valid_methods(sysobj))
+    if wanted_methods is not None:
+        unknown = [m for m in wanted_methods if m not in sysobj.methods()]
+        if unknown:
+            raise ValueError(f"unknown {sysobj.id} method(s) {', '.join(map(repr, unknown))}; valid: "
+                             f"{', '.join(sysobj.methods())}")
+    if group is not None and group not in list(sysobj.groups) + ["all"]:
+        raise ValueError(f"unknown {sysobj.id} group {group!r}; valid: {', '.join(list(sysobj.groups) + ['all'])}")
+    instances = (sysobj.select_instances(_split(terrains, "--terrains", _valid_instances(sysobj)) or [])
+                 if terrains is not None else sysobj.instances(group) if group is not None else None)
+    with ResultsStore(store, read_only=True) as st:
+        rows = [r for r in st.rows(system=sysobj.id)
+                if (wanted_methods is None or r["method"] in wanted_methods)
+                and (instances is None or r["instance"] in instances)]
+    if not rows:
+        raise ValueError(f"no {sysobj.id} trials in {str(store)!r} match; `terrabench run {sysobj.id} --store "
+                         f"{store}` stores them")
+    names = _split(metrics, "--metrics", lambda: ", ".join(cmp.metric_names(rows)))
+    console.print(_compare_table(rows, sysobj, names))
+    if out is not None:
+        cmp.write_csv(cmp.compare(rows, sysobj, names), out)
+        console.print(f"written: {out}", highlight=False)
+
 
 @app.command()
 @friendly

@@ -571,3 +571,41 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
             raise ValueError(f"bad override {item!r}: the value {raw!r} does not parse ({problem}); "
                              "valid: a number, true/false, a string or a list like [1, 2]") from None
     return out
+
+
+def parse_variations(items: list[str]) -> dict[str, list[Any]]:
+    """``["robot.roller_damping=0.02,5", "clm.pace=[0.1, 0.2]"]`` -> ``{key: [value, ...]}``.
+
+    A key's values are written ``V1,V2,...`` or as a YAML list ``[V1, V2, ...]`` (a list-valued
+    setting is one item in brackets: ``robot.arm_kp=[[800, 2500, 1500], [800, 2000, 1500]]``).
+    A key given twice, a value given twice or fewer than two values is bad input (one line naming
+    it); each value is checked against the field's range later, like ``--set``.
+    """
+    out: dict[str, list[Any]] = {}
+    for item in items:
+        key, sep, raw = item.partition("=")
+        key = key.strip()
+        if not sep or not key or not raw.strip():
+            raise ValueError(f"bad variation {item!r}; expected KEY=V1,V2,..., e.g. robot.roller_damping=0.02,5")
+        text = raw.strip()
+        try:
+            values = yaml.safe_load(text if text.startswith("[") else f"[{text}]")
+        except yaml.YAMLError as exc:
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise ValueError(f"bad variation {item!r}: {raw!r} does not parse ({problem}); valid: values separated "
+                             "by commas (0.02,5) or a list ([0.02, 5])") from None
+        if not isinstance(values, list):
+            raise ValueError(f"bad variation {item!r}: expected a list of values, got {values!r}")
+        if key in out:
+            raise ValueError(f"variation key {key!r} given twice; give its values once: {key}=V1,V2,...")
+        seen: list[str] = []
+        for v in values:
+            text_v = yaml.safe_dump(v, default_flow_style=True).strip()
+            if text_v in seen:
+                raise ValueError(f"variation {key!r} lists the value {v!r} twice")
+            seen.append(text_v)
+        if len(values) < 2:
+            raise ValueError(f"variation {key!r} has {len(values)} value(s); a variation needs at least two "
+                             f"(one value is --set {key}=VALUE)")
+        out[key] = values
+    return out

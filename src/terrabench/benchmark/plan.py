@@ -104,3 +104,38 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
             if seed in ss:
                 out.append(TrialSpec(system.id, system.scenario(mid, inst), mid, inst, seed, c))
     return out
+
+
+def plan_variations(system: Any, *, vary: Mapping[str, Sequence[Any]], overrides: Mapping[str, Any] | None = None,
+                    **request: Any) -> tuple[list[TrialSpec], list[dict[str, Any]]]:
+    """Trial specs of one request under every combination of ``vary`` (key -> values; the
+    cartesian product, each combination on top of ``overrides``), and the combinations.
+
+    ``request`` is :meth:`~terrabench.systems.base.System.plan`'s (methods, instances, group,
+    seeds). Every combination is planned, so every value is checked against its field's range,
+    before any trial runs; a key both set and varied is bad input. A trial two combinations plan
+    alike (a method that does not read the varied section) is planned once. Seed-major: an
+    interrupted run holds every combination's first seeds.
+    """
+    import itertools
+
+    overrides = dict(overrides or {})
+    both = sorted(set(vary) & set(overrides))
+    if both:
+        raise ValueError(f"{', '.join(both)} is both set (--set) and varied (--vary); give it in one of them")
+    keys = list(vary)
+    combos = [dict(zip(keys, values)) for values in itertools.product(*(vary[k] for k in keys))]
+    planned: list[tuple[int, int, TrialSpec]] = []
+    seen: set[str] = set()
+    for ci, combo in enumerate(combos):
+        try:
+            specs = system.plan(overrides={**overrides, **combo}, **request)
+        except ValueError as exc:
+            where = ", ".join(f"{k}={v!r}" for k, v in combo.items())
+            raise ValueError(f"with {where}: {exc}") from None
+        for si, spec in enumerate(specs):
+            if spec.key not in seen:
+                seen.add(spec.key)
+                planned.append((spec.seed, ci * len(specs) + si, spec))
+    planned.sort(key=lambda t: (t[0], t[1]))
+    return [p[2] for p in planned], combos

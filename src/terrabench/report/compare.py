@@ -1,0 +1,126 @@
+"""Stored trials side by side, one line per (instance, config variant): what an ablation reads.
+
+``terrabench run SYSTEM --vary KEY=V1,V2`` stores one variant per value; ``terrabench compare
+SYSTEM`` reads any store and puts the variants of each instance side by side: the statuses, and
+for each metric the median with the smallest and largest value over the seeds. Variants are the
+report's (:mod:`terrabench.report.variants`): a method under one set of settings, labelled by
+the settings that tell it apart from the method's other variants, so no line mixes two configs.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import statistics
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
+
+from terrabench.benchmark.trial import canonical_json
+from terrabench.report.variants import Defaults, find_variants
+
+if TYPE_CHECKING:
+    from terrabench.systems.base import System
+
+
+@dataclass(frozen=True)
+class Line:
+    """One (instance, variant): its trials' statuses and each metric's (median, min, max)."""
+
+    instance: str
+    method: str
+    label: str
+    settings: Mapping[str, Any]
+    n: int
+    statuses: Mapping[str, int]
+    metrics: Mapping[str, tuple[float, float, float] | None]
+
+    @property
+    def successes(self) -> int:
+        return self.statuses.get("success", 0)
+
+
+def _number(v: Any) -> float | None:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        return None
+    return float(v)
+
+
+def _settings_order(diff: Mapping[str, Any]) -> tuple:
+    """Sort key of a variant's settings: by key, numbers by value, anything else by its JSON."""
+    out = []
+    for k in sorted(diff):
+        x = _number(diff[k])
+        out.append((k, 0, x, "") if x is not None else (k, 1, 0.0, canonical_json(diff[k])))
+    return tuple(out)
+
+
+def metric_names(rows: Sequence[dict[str, Any]]) -> list[str]:
+    """Every metric that is a finite number in at least one row, sorted."""
+    return sorted({k for r in rows for k, v in r["metrics"].items() if _number(v) is not None})
+
+
+def compare(rows: Sequence[dict[str, Any]], system: System, metrics: Sequence[str] | None = None) -> list[Line]:
+    """One :class:`Line` per (instance, variant) of ``rows`` (one system's stored rows), in the
+    instances' stored order, the variants of a method by their settings' values. ``metrics`` (default: every numeric
+    metric of the rows); a name no row has is bad input naming the ones they have."""
+    names = metric_names(rows)
+    if metrics is None:
+        metrics = names
+    else:
+        bad = [m for m in metrics if m not in names]
+        if bad:
+            raise ValueError(f"no stored trial has the metric(s) {', '.join(map(repr, bad))}; "
+                             f"valid: {', '.join(names) or 'none (no numeric metric stored)'}")
+    variants = find_variants(rows, default_config=Defaults(system), order=list(system.methods()))
+    rank = {m: i for i, m in enumerate(system.methods())}
+    # a sweep reads in the order of its values: within a method, the variants by their settings
+    variants.sort(key=lambda v: (rank.get(v.method, len(rank)), v.method, _settings_order(v.diff)))
+    out: list[Line] = []
+    instances = list(dict.fromkeys(r["instance"] for r in rows))
+    for inst in instances:
+        here = [r for r in rows if r["instance"] == inst]
+        for v in variants:
+            rs = v.rows_of(here)
+            if not rs:
+                continue
+            cells: dict[str, tuple[float, float, float] | None] = {}
+            for m in metrics:
+                xs = [x for x in (_number(r["metrics"].get(m)) for r in rs) if x is not None]
+                cells[m] = (statistics.median(xs), min(xs), max(xs)) if xs else None
+            out.append(Line(inst, v.method, v.label, dict(v.diff), len(rs),
+                            dict(Counter(r["status"] for r in rs).most_common()), cells))
+    return out
+
+
+def cell_text(cell: tuple[float, float, float] | None) -> str:
+    """``"0.282 [0.255, 0.296]"`` (median [min, max]); one value when they agree; ``-`` for none."""
+    if cell is None:
+        return "-"
+    med, lo, hi = cell
+    return f"{med:.4g}" if lo == hi else f"{med:.4g} [{lo:.4g}, {hi:.4g}]"
+
+
+def statuses_text(line: Line) -> str:
+    """``"success 4/5, timeout 1"``: the successes over the trials first, then the other statuses."""
+    rest = [f"{s} {n}" for s, n in line.statuses.items() if s != "success"]
+    return ", ".join([f"success {line.successes}/{line.n}"] + rest)
+
+
+def write_csv(lines: Sequence[Line], path: Path) -> None:
+    """One row per line: instance, method, variant label, its settings (JSON), n, successes,
+    statuses (JSON), and per metric its median, min and max (empty where no trial has it)."""
+    metrics = list(lines[0].metrics) if lines else []
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["instance", "method", "variant", "settings", "n", "successes", "statuses"]
+                   + [f"{m}_{part}" for m in metrics for part in ("median", "min", "max")])
+        for ln in lines:
+            vals: list[Any] = []
+            for m in metrics:
+                c = ln.metrics.get(m)
+                vals += list(c) if c is not None else ["", "", ""]
+            w.writerow([ln.instance, ln.method, ln.label, canonical_json(dict(ln.settings)), ln.n, ln.successes,
+                        canonical_json(dict(ln.statuses))] + vals)

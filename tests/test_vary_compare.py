@@ -1,0 +1,100 @@
+"""`terrabench run --vary` (every value of a setting, one variant each) and `terrabench compare`
+(stored variants side by side): the planning contract, bad input, and a tiny run read back."""
+
+import csv
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from terrabench.benchmark.plan import plan_variations
+from terrabench.catalog import system as get_system
+from terrabench.cli import app
+from terrabench.config import parse_variations
+
+runner = CliRunner()
+
+
+def invoke(*args):
+    r = runner.invoke(app, list(args))
+    r.text = " ".join(r.output.split())
+    return r
+
+
+def test_variations_parse_commas_or_a_list_and_keep_list_values_whole():
+    assert parse_variations(["chain.k_pitch=10,20"]) == {"chain.k_pitch": [10, 20]}
+    assert parse_variations(["chain.k_pitch=[10, 20]"]) == {"chain.k_pitch": [10, 20]}
+    assert parse_variations(["protocol.target_xy=[[9, -9], [8, -8]]"]) == {"protocol.target_xy": [[9, -9], [8, -8]]}
+
+
+@pytest.mark.parametrize("items, needle", [
+    (["chain.k_pitch=10"], "needs at least two"),
+    (["chain.k_pitch=10,10"], "lists the value 10 twice"),
+    (["chain.k_pitch=10,20", "chain.k_pitch=30,40"], "given twice"),
+    (["chain.k_pitch"], "expected KEY=V1,V2"),
+    (["chain.k_pitch=[10, 20"], "does not parse"),
+])
+def test_bad_variations_are_one_line_naming_them(items, needle):
+    with pytest.raises(ValueError, match=needle):
+        parse_variations(items)
+
+
+def test_every_combination_is_planned_once_and_every_value_checked_before_running():
+    mrs = get_system("mrs-cwc")
+    specs, combos = plan_variations(mrs, vary={"chain.k_pitch": [10.0, 20.0], "chain.k_roll": [30.0, 40.0]},
+                                    instances=["A-01"], methods=["cwc-tdt"], seeds=2)
+    assert len(combos) == 4 and len(specs) == 8 and len({s.key for s in specs}) == 8
+    assert [s.seed for s in specs] == [0, 0, 0, 0, 1, 1, 1, 1]  # seed-major: an interrupted run has every variant
+    got = {(s.config["chain"]["k_pitch"], s.config["chain"]["k_roll"]) for s in specs}
+    assert got == {(10.0, 30.0), (10.0, 40.0), (20.0, 30.0), (20.0, 40.0)}
+    with pytest.raises(ValueError, match=r"with chain.k_pitch=-1.*k_pitch"):
+        plan_variations(mrs, vary={"chain.k_pitch": [10.0, -1.0]}, instances=["A-01"], methods=["cwc-tdt"])
+    with pytest.raises(ValueError, match="both set .* and varied"):
+        plan_variations(mrs, vary={"chain.k_pitch": [10.0, 20.0]}, overrides={"chain.k_pitch": 5.0},
+                        instances=["A-01"], methods=["cwc-tdt"])
+
+
+def test_a_method_that_does_not_read_the_varied_setting_is_planned_once():
+    mrs = get_system("mrs-cwc")  # its trials store only the sections their method reads
+    specs, _ = plan_variations(mrs, vary={"follow.speed_gain": [4.0, 5.0]}, instances=["A-01"],
+                               methods=["cwc-tdt", "d-tdt"])
+    assert sorted(s.method for s in specs) == ["cwc-tdt", "d-tdt", "d-tdt"]
+
+
+def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp_path):
+    store = str(tmp_path / "s.duckdb")
+    r = invoke("run", "mrs-cwc", "--terrains", "A-01", "--timeout", "1", "--workers", "1", "--store", store,
+               "--vary", "chain.k_pitch=20,5,10", "--quiet")
+    assert r.exit_code == 0, r.output
+    assert "3 trials requested" in r.text and "variants side by side" in r.text
+    out = tmp_path / "cmp" / "k.csv"
+    r = invoke("compare", "mrs-cwc", "--store", store, "--metrics", "sim_time,d_min", "--out", str(out))
+    assert r.exit_code == 0, r.output
+    rows = list(csv.DictReader(open(out)))
+    # in the values' order (as numbers: 5 before 10), not as given nor by hash
+    assert [json.loads(x["settings"])["chain.k_pitch"] for x in rows] == [5.0, 10.0, 20.0]
+    assert rows[0]["variant"] == "cwc-tdt (chain.k_pitch=5.0)"
+    assert all(x["n"] == "1" and float(x["sim_time_median"]) == pytest.approx(1.0, abs=0.05) for x in rows)
+    # the springs differ, so the trials do: not one trial read twice
+    assert len({x["d_min_median"] for x in rows}) == 3
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--metrics", "nope"], "no stored trial has the metric(s) 'nope'; valid:"),
+    (["--methods", "magic"], "unknown mrs-cwc method(s) 'magic'"),
+    (["--group", "Q"], "unknown mrs-cwc group 'Q'"),
+    (["--terrains", "B-01"], "no mrs-cwc trials in"),
+    (["--out", "x.txt"], "unknown suffix"),
+])
+def test_compare_refuses_bad_input_in_one_line(args, needle, tmp_path):
+    store = str(tmp_path / "s.duckdb")
+    assert invoke("run", "mrs-cwc", "--terrains", "A-01", "--timeout", "0.5", "--workers", "1", "--store", store,
+                  "--quiet").exit_code == 0
+    r = invoke("compare", "mrs-cwc", "--store", store, *args)
+    assert r.exit_code == 2, r.output
+    assert needle in r.text and "Traceback" not in r.output
+
+
+def test_compare_without_a_store_says_how_to_make_one(tmp_path):
+    r = invoke("compare", "mrs-cwc", "--store", str(tmp_path / "none.duckdb"))
+    assert r.exit_code == 2 and "does not exist" in r.text

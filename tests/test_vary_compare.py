@@ -68,8 +68,11 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
     assert r.exit_code == 0, r.output
     assert "3 trials requested" in r.text and "variants side by side" in r.text
     out = tmp_path / "cmp" / "k.csv"
-    r = invoke("compare", "mrs-cwc", "--store", store, "--metrics", "sim_time,d_min", "--out", str(out))
+    png = tmp_path / "cmp" / "k.png"
+    r = invoke("compare", "mrs-cwc", "--store", store, "--metrics", "sim_time,d_min", "--out", str(out),
+               "--plot", str(png))
     assert r.exit_code == 0, r.output
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = list(csv.DictReader(open(out)))
     # in the values' order (as numbers: 5 before 10), not as given nor by hash
     assert [json.loads(x["settings"])["chain.k_pitch"] for x in rows] == [5.0, 10.0, 20.0]
@@ -85,6 +88,7 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
     (["--group", "Q"], "unknown mrs-cwc group 'Q'"),
     (["--terrains", "B-01"], "no mrs-cwc trials in"),
     (["--out", "x.txt"], "unknown suffix"),
+    (["--plot", "x.pdf"], "unknown suffix"),
 ])
 def test_compare_refuses_bad_input_in_one_line(args, needle, tmp_path):
     store = str(tmp_path / "s.duckdb")

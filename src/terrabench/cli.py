@@ -267,7 +267,7 @@ def run(
     if not quiet:
         console.print(_trial_table(rows, sysobj))
     if variations:  # the system's summary would mix the variants: them side by side instead
-        console.print(_compare_table(rows, sysobj, None))
+        console.print(_compare_table(rows, sysobj, None)[0])
         console.print(f"more metrics: terrabench compare {sysobj.id} --store {store} --metrics NAME,...",
                       highlight=False)
     else:
@@ -363,8 +363,9 @@ def _trial_table(rows, sysobj):
     return t
 
 def _compare_table(rows, sysobj, metrics):
-    """The variants side by side (:mod:`terrabench.report.compare`); ``metrics`` None: the
-    system's headline metrics that the rows have (every numeric one when it names none)."""
+    """The variants side by side (:mod:`terrabench.report.compare`) and the metrics shown;
+    ``metrics`` None: the system's headline metrics that the rows have (every numeric one when it
+    names none)."""
     from rich.table import Table
 
     from terrabench.report import compare as cmp
@@ -378,7 +379,7 @@ def _compare_table(rows, sysobj, metrics):
         t.add_column(c, overflow="fold")  # a label is what tells the lines apart: never cut
     for ln in lines:
         t.add_row(ln.instance, ln.label, cmp.statuses_text(ln), *(cmp.cell_text(ln.metrics[m]) for m in metrics))
-    return t
+    return t, list(metrics)
 
 
 @app.command()
@@ -392,6 +393,8 @@ def compare(
     metrics: Optional[str] = typer.Option(None, help="comma-separated metric names (default: the system's "
                                           "headline metrics; every numeric one in the CSV)"),
     out: Optional[Path] = typer.Option(None, help="also write the lines as CSV here"),
+    plot: Optional[Path] = typer.Option(None, help="also draw the table's metrics here (PNG): per metric, each "
+                                        "variant's median and range over seeds, one series per instance"),
 ) -> None:
     """Stored trials side by side: one line per (instance, config variant), statuses and metrics."""
     from terrabench.benchmark.store import ResultsStore
@@ -402,6 +405,8 @@ def compare(
     sysobj = get_system(system)
     if out is not None:
         check_out_file(out, flag="--out", suffixes=(".csv",))
+    if plot is not None:
+        check_out_file(plot, flag="--plot", suffixes=(".png",))
     if not store.exists():
         raise ValueError(f"--store {str(store)!r} does not exist; run `terrabench run {sysobj.id}` into it first")
     if group is not None and terrains is not None:
@@ -424,10 +429,14 @@ def compare(
         raise ValueError(f"no {sysobj.id} trials in {str(store)!r} match; `terrabench run {sysobj.id} --store "
                          f"{store}` stores them")
     names = _split(metrics, "--metrics", lambda: ", ".join(cmp.metric_names(rows)))
-    console.print(_compare_table(rows, sysobj, names))
+    table, shown = _compare_table(rows, sysobj, names)
+    console.print(table)
     if out is not None:
         cmp.write_csv(cmp.compare(rows, sysobj, names), out)
         console.print(f"written: {out}", highlight=False)
+    if plot is not None:
+        cmp.plot(cmp.compare(rows, sysobj, shown), shown, plot)
+        console.print(f"written: {plot}", highlight=False)
 
 
 @app.command()

@@ -64,9 +64,9 @@ def test_a_method_that_does_not_read_the_varied_setting_is_planned_once():
 def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp_path):
     store = str(tmp_path / "s.duckdb")
     r = invoke("run", "mrs-cwc", "--terrains", "A-01", "--timeout", "1", "--workers", "1", "--store", store,
-               "--vary", "chain.k_pitch=20,5,10", "--quiet")
+               "--vary", "chain.k_pitch=20,5,15,10", "--quiet")
     assert r.exit_code == 0, r.output
-    assert "3 trials requested" in r.text and "variants side by side" in r.text
+    assert "4 trials requested" in r.text and "variants side by side" in r.text
     out = tmp_path / "cmp" / "k.csv"
     png = tmp_path / "cmp" / "k.png"
     r = invoke("compare", "mrs-cwc", "--store", store, "--metrics", "sim_time,d_min", "--out", str(out),
@@ -74,12 +74,12 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
     assert r.exit_code == 0, r.output
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = list(csv.DictReader(open(out)))
-    # in the values' order (as numbers: 5 before 10), not as given nor by hash
-    assert [json.loads(x["settings"])["chain.k_pitch"] for x in rows] == [5.0, 10.0, 20.0]
-    assert rows[0]["variant"] == "cwc-tdt (chain.k_pitch=5.0)"
+    # in the values' order (as numbers: 5 before 10; the default 15 in its place), not as given nor by hash
+    assert [x["variant"] for x in rows] == [f"cwc-tdt (chain.k_pitch={k})" for k in (5.0, 10.0, 15.0, 20.0)]
+    assert [json.loads(x["settings"]).get("chain.k_pitch") for x in rows] == [5.0, 10.0, None, 20.0]
     assert all(x["n"] == "1" and float(x["sim_time_median"]) == pytest.approx(1.0, abs=0.05) for x in rows)
     # the springs differ, so the trials do: not one trial read twice
-    assert len({x["d_min_median"] for x in rows}) == 3
+    assert len({x["d_min_median"] for x in rows}) == 4
 
 
 @pytest.mark.parametrize("args, needle", [

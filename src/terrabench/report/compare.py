@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 from terrabench.benchmark.trial import canonical_json
-from terrabench.report.variants import Defaults, find_variants
+from terrabench.report.variants import Defaults, find_variants, flatten
 
 if TYPE_CHECKING:
     from terrabench.systems.base import System
@@ -47,12 +47,15 @@ def _number(v: Any) -> float | None:
     return float(v)
 
 
-def _settings_order(diff: Mapping[str, Any]) -> tuple:
-    """Sort key of a variant's settings: by key, numbers by value, anything else by its JSON."""
+def _settings_order(config: Mapping[str, Any], keys: Sequence[str]) -> tuple:
+    """Sort key of a variant: its values of ``keys`` (the settings its method's variants differ
+    in, the default's own values included), numbers by value, anything else by its JSON."""
+    flat = flatten(dict(config))
     out = []
-    for k in sorted(diff):
-        x = _number(diff[k])
-        out.append((k, 0, x, "") if x is not None else (k, 1, 0.0, canonical_json(diff[k])))
+    for k in keys:
+        v = flat.get(k)
+        x = _number(v)
+        out.append((0, x, "") if x is not None else (1, 0.0, canonical_json(v)))
     return tuple(out)
 
 
@@ -63,8 +66,9 @@ def metric_names(rows: Sequence[dict[str, Any]]) -> list[str]:
 
 def compare(rows: Sequence[dict[str, Any]], system: System, metrics: Sequence[str] | None = None) -> list[Line]:
     """One :class:`Line` per (instance, variant) of ``rows`` (one system's stored rows), in the
-    instances' stored order, the variants of a method by their settings' values. ``metrics`` (default: every numeric
-    metric of the rows); a name no row has is bad input naming the ones they have."""
+    instances' stored order, the variants of a method by their settings' values. ``metrics``
+    (default: every numeric metric of the rows); a name no row has is bad input naming the ones
+    they have."""
     names = metric_names(rows)
     if metrics is None:
         metrics = names
@@ -75,8 +79,9 @@ def compare(rows: Sequence[dict[str, Any]], system: System, metrics: Sequence[st
                              f"valid: {', '.join(names) or 'none (no numeric metric stored)'}")
     variants = find_variants(rows, default_config=Defaults(system), order=list(system.methods()))
     rank = {m: i for i, m in enumerate(system.methods())}
+    varied = {m: sorted({k for v in variants if v.method == m for k in v.diff}) for m in {v.method for v in variants}}
     # a sweep reads in the order of its values: within a method, the variants by their settings
-    variants.sort(key=lambda v: (rank.get(v.method, len(rank)), v.method, _settings_order(v.diff)))
+    variants.sort(key=lambda v: (rank.get(v.method, len(rank)), v.method, _settings_order(v.config, varied[v.method])))
     out: list[Line] = []
     instances = list(dict.fromkeys(r["instance"] for r in rows))
     for inst in instances:

@@ -419,14 +419,14 @@ def block_octopus(src: Sources) -> Block:
 
     lead = modes[0] if modes else ""
     out = [[f"`{t}`"] + [outcome(by.get((t, m))) for m in modes]
-           + [paired(by.get((t, lead)), "max pitch rad"), paired(by.get((t, lead)), "min margin m")] for t in tasks]
+           + [paired(by.get((t, lead)), c) for c in ("max pitch rad", "max roll rad", "min margin m")] for t in tasks]
     n = sorted({int(fnum(r.get("n")) or 0) for r in rows})
     seeds = "/".join(str(k) for k in n)
     body = (f"`terrabench run octopus --methods clm,ccm --group steps --seeds {seeds}` (and `--group rough` for "
             f"the rough-ground rows, beyond the paper): successes of {seeds} seeds per task and mode, with how the "
-            f"others ended and the paper's result; the extreme pitch and the lowest static stability margin of "
-            f"{lead} over the seeds, the paper's in parentheses:\n\n"
-            + table(["task"] + modes + [f"{lead} max pitch rad", f"{lead} min margin m"], out))
+            f"others ended and the paper's result; the extreme pitch and roll and the lowest static stability "
+            f"margin of {lead} over the seeds, the paper's in parentheses:\n\n"
+            + table(["task"] + modes + [f"{lead} max pitch rad", f"{lead} max roll rad", f"{lead} min margin m"], out))
     pairs = [(fnum(o), fnum(p)) for o, p in (_paren(r.get("min margin m", "")) for r in rows if r.get("mode") == lead)]
     margins = [(o, p) for o, p in pairs if o is not None and p is not None]
     if margins:
@@ -437,9 +437,10 @@ def block_octopus(src: Sources) -> Block:
     counts = [(t, by[(t, lead)].get(LOW_COLUMN) or "") for t in tasks if (t, lead) in by]
     if counts and all(k for _, k in counts):  # a tasks.csv written before the column has none
         low = [f"{t} {k}" for t, k in counts if not k.startswith("0/")]
-        body += (f" Its {LOW_COLUMN.replace('trials with ', 'trials with a ')} (on the terraces the release "
-                 "teeter; which trials fall there is decided by sub-micrometre differences in the start, "
-                 "`benchmarks/start_sensitivity_study.py`): " + (", ".join(low) or "none")
+        body += (f" Its {LOW_COLUMN.replace('trials with ', 'trials with a ')} (from the front, the release "
+                 "teeter on the first edge, which trials fall there decided by sub-micrometre differences in the "
+                 "start, `benchmarks/start_sensitivity_study.py`; from the side, the walk mounting the second riser "
+                 "at an angle, nose and roll up: `docs/octopus.md`): " + (", ".join(low) or "none")
                  + (", none in the other tasks." if low and len(low) < len(counts) else "."))
     return src.block(body)
 

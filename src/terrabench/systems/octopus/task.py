@@ -243,6 +243,12 @@ class Layout:
     terrain: object = None  # rough ground: the sine-sum parameters (terrain.sine_sum), centred at 0
 
 
+#: across-axis extent of terrace2-side's terraces (m): the robot crosses them at side_yaw_deg to
+#: their normal, so its path drifts across the axis (0.85 m at 25 deg) and its arms reach ~0.8 m
+#: beyond the tracks
+SIDE_TERRACE_WIDTH = 6.0
+
+
 def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
     """The terrain pieces and start of an instance id (``step-400``, ``terrace2-front``, ...)."""
     sc = cfg.scene
@@ -256,12 +262,18 @@ def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
         boxes = pieces.step(h, edge_x=0.0)
         return Layout("step", boxes, 0.0, h, 0.0, (-d, off), dyaw)
     if instance in ("terrace2-front", "terrace2-side"):
-        yaw = 0.0 if instance.endswith("front") else math.radians(sc.side_yaw_deg)
-        boxes = pieces.terraces(sc.terrace_heights, (sc.terrace_tread,), edge_x=0.0, yaw=yaw)
+        side = instance.endswith("side")
+        yaw = math.radians(sc.side_yaw_deg) if side else 0.0
+        # from the side the terraces are turned by yaw and the robot is not: it drives along world
+        # x and meets the edges at yaw to their normal, one crawler before the other ("the heights
+        # of terrace under left side and right side crawlers are not same" [P]); the 2.0 m drive
+        # along x drifts ~0.85 m across the axis, so the terraces are wider there
+        boxes = pieces.terraces(sc.terrace_heights, (sc.terrace_tread,), edge_x=0.0, yaw=yaw,
+                                width=SIDE_TERRACE_WIDTH if side else 3.0)
         top = float(sum(sc.terrace_heights))
-        # the robot starts on the approach axis d behind the first edge, turned by yaw
+        # the robot starts on the approach axis d behind the first edge (the front task: facing it)
         sx, sy = -d * math.cos(yaw) - off * math.sin(yaw), -d * math.sin(yaw) + off * math.cos(yaw)
-        return Layout("terrace", boxes, sc.terrace_tread, top, yaw, (sx, sy), yaw + dyaw)
+        return Layout("terrace", boxes, sc.terrace_tread, top, yaw, (sx, sy), dyaw if side else yaw + dyaw)
     if instance in ROUGH_LEVELS:
         # beyond the paper: rough ground from the shared sine-sum generator (MRS-CWC's family),
         # one terrain per seed at the level's normalised height, centred on the origin

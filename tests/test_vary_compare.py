@@ -67,6 +67,7 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
                "--vary", "chain.k_pitch=20,5,15,10", "--quiet")
     assert r.exit_code == 0, r.output
     assert "4 trials requested" in r.text and "variants side by side" in r.text
+    assert "cwc-tdt A-01 chain.k_pitch=5.0 seed 0" in r.text  # each trial's line names its value
     out = tmp_path / "cmp" / "k.csv"
     png = tmp_path / "cmp" / "k.png"
     r = invoke("compare", "mrs-cwc", "--store", store, "--metrics", "sim_time,d_min", "--out", str(out),

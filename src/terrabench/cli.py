@@ -256,7 +256,7 @@ def run(
     new_store = not store.exists()
     with ResultsStore(store) as st:
         try:
-            summary = _run_with_progress(run_trials, specs, st, backend, workers, address)
+            summary = _run_with_progress(run_trials, specs, st, backend, workers, address, tuple(variations))
         except BaseException:
             if new_store and st.trial_count() == 0:  # e.g. no Ray cluster: leave no empty store behind
                 st.close()
@@ -313,7 +313,9 @@ def _clip_window(sysobj, spec, start, span, at, store) -> tuple[float, float | N
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
-def _run_with_progress(run_trials, specs, store, backend, workers, address):
+def _run_with_progress(run_trials, specs, store, backend, workers, address, varied=()):
+    """Run ``specs`` with a progress bar (a plain line per trial when not on a terminal); a sweep's
+    lines name each trial's values of the ``varied`` keys."""
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -335,13 +337,19 @@ def _run_with_progress(run_trials, specs, store, backend, workers, address):
 
     done = 0
 
+    def values(spec) -> str:
+        from terrabench.report.variants import flatten
+
+        flat = flatten(dict(spec.config))
+        return "".join(f" {k}={flat[k]}" for k in varied if k in flat)
+
     def on_result(spec, result) -> None:
         nonlocal done
         done += 1
-        progress.update(task, advance=1, last=f"{spec.method} {spec.instance}: {result.status}")
+        progress.update(task, advance=1, last=f"{spec.method} {spec.instance}{values(spec)}: {result.status}")
         if plain:
-            print(f"[{done}/{progress.tasks[0].total:.0f}] {spec.method} {spec.instance} seed {spec.seed}: "
-                  f"{result.status} ({result.wall_time:.1f} s)", flush=True)
+            print(f"[{done}/{progress.tasks[0].total:.0f}] {spec.method} {spec.instance}{values(spec)} seed "
+                  f"{spec.seed}: {result.status} ({result.wall_time:.1f} s)", flush=True)
 
     with progress:
         # in_process=False: even --workers 1 runs trials in a child process, so a trial that

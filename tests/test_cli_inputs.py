@@ -78,6 +78,7 @@ def test_run_with_a_meaningless_config_value_stores_nothing(tmp_path, setting):
 #: option must be added here: the test below checks the list is complete)
 PATH_COMMANDS = {
     ("report",): ["mrs-cwc"],
+    ("compare",): ["mrs-cwc"],
     ("render",): ["mrs-cwc", "--terrain", "A-01", "--timeout", "0.1"],
     ("terrain", "show"): ["B-07"],
     ("terrain", "generate"): ["--n", "1"],
@@ -108,10 +109,11 @@ def test_every_out_option_is_listed():
 def test_every_out_path_is_checked_before_any_work(tmp_path, command, where):
     afile = tmp_path / "afile"
     afile.write_text("x")
-    name = "x.mp4" if command == ("render",) else "x.csv" if command == ("terrain", "generate") else "x.png"
+    csv_out = command in (("terrain", "generate"), ("compare",))
+    name = "x.mp4" if command == ("render",) else "x.csv" if csv_out else "x.png"
     bad = f"/proc/terrabench-no/{name}" if where == "unwritable" else str(afile / name)
     store = tmp_path / "r.duckdb"
-    extra = ["--store", str(store)] if command in (("report",), ("terrain", "show")) else []
+    extra = ["--store", str(store)] if command in (("report",), ("terrain", "show"), ("compare",)) else []
     res = invoke(*command, *PATH_COMMANDS[command], *extra, "--out", bad)
     one_error_line(res, repr(bad))
     assert not store.exists()

@@ -88,6 +88,8 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
     (["--methods", "magic"], "unknown mrs-cwc method(s) 'magic'"),
     (["--group", "Q"], "unknown mrs-cwc group 'Q'"),
     (["--terrains", "B-01"], "no mrs-cwc trials in"),
+    (["--terrains", "Z-99"], "unknown terrain id"),
+    (["--terrains", "A-01", "--group", "A"], "either --terrains or --group"),
     (["--out", "x.txt"], "unknown suffix"),
     (["--plot", "x.pdf"], "unknown suffix"),
 ])

@@ -417,22 +417,11 @@ def compare(
         check_out_file(plot, flag="--plot", suffixes=(".png",))
     if not store.exists():
         raise ValueError(f"--store {str(store)!r} does not exist; run `terrabench run {sysobj.id}` into it first")
-    if group is not None and terrains is not None:
-        raise ValueError("give either --terrains or --group, not both")
-    wanted_methods = _split(methods, "--methods", _valid_methods(sysobj))
-    if wanted_methods is not None:
-        unknown = [m for m in wanted_methods if m not in sysobj.methods()]
-        if unknown:
-            raise ValueError(f"unknown {sysobj.id} method(s) {', '.join(map(repr, unknown))}; valid: "
-                             f"{', '.join(sysobj.methods())}")
-    if group is not None and group not in list(sysobj.groups) + ["all"]:
-        raise ValueError(f"unknown {sysobj.id} group {group!r}; valid: {', '.join(list(sysobj.groups) + ['all'])}")
-    instances = (sysobj.select_instances(_split(terrains, "--terrains", _valid_instances(sysobj)) or [])
-                 if terrains is not None else sysobj.instances(group) if group is not None else None)
+    chosen = dict(methods=_split(methods, "--methods", _valid_methods(sysobj)),
+                  instances=_split(terrains, "--terrains", _valid_instances(sysobj)), group=group)
+    cmp.check_selection(sysobj, **chosen)
     with ResultsStore(store, read_only=True) as st:
-        rows = [r for r in st.rows(system=sysobj.id)
-                if (wanted_methods is None or r["method"] in wanted_methods)
-                and (instances is None or r["instance"] in instances)]
+        rows = cmp.select(st.rows(system=sysobj.id), sysobj, **chosen)
     if not rows:
         raise ValueError(f"no {sysobj.id} trials in {str(store)!r} match; `terrabench run {sysobj.id} --store "
                          f"{store}` stores them")

@@ -64,6 +64,28 @@ def metric_names(rows: Sequence[dict[str, Any]]) -> list[str]:
     return sorted({k for r in rows for k, v in r["metrics"].items() if _number(v) is not None})
 
 
+def check_selection(system: System, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
+                    group: str | None = None) -> None:
+    """ValueError, one line naming the bad value and the valid ones, for a method, instance or
+    group ``system`` does not have, or for instances and a group both given (None: not given)."""
+    from terrabench.benchmark.plan import split_ids
+
+    if group is not None and instances is not None:
+        raise ValueError("give either --terrains or --group, not both")
+    split_ids(methods, f"{system.id} method(s)", list(system.methods()))
+    if group is not None and group not in [*system.groups, "all"]:
+        raise ValueError(f"unknown {system.id} group {group!r}; valid: {', '.join([*system.groups, 'all'])}")
+    if instances is not None:
+        system.select_instances(instances)
+
+
+def select(rows: Sequence[dict[str, Any]], system: System, *, methods: Sequence[str] | None = None,
+           instances: Sequence[str] | None = None, group: str | None = None) -> list[dict[str, Any]]:
+    """The stored ``rows`` of those methods and instances (or the group's; None: every one)."""
+    keep = set(instances) if instances is not None else set(system.instances(group)) if group is not None else None
+    return [r for r in rows if (methods is None or r["method"] in methods) and (keep is None or r["instance"] in keep)]
+
+
 def compare(rows: Sequence[dict[str, Any]], system: System, metrics: Sequence[str] | None = None) -> list[Line]:
     """One :class:`Line` per (instance, variant) of ``rows`` (one system's stored rows), in the
     instances' stored order, the variants of a method by their settings' values. ``metrics``

@@ -75,3 +75,17 @@ def test_the_fitted_values_are_the_fits_optimum_on_this_code():
 def test_a_refit_finds_no_better_geometry():
     cfg, cost = lf.refit()
     assert cost >= 33.0
+
+
+def test_the_middle_lift_share_is_the_levers_about_the_hinge():
+    """Task 6: a middle wheel lifted, its clutched side splits its load between front and rear by
+    their distances from the hinge (a pivot passing no moment). The earlier geometry (middle axle
+    under the hinge, equal spacing) splits it equally, as the paper says; the fitted one puts the
+    hinge 0.19 m ahead of the middle axle and the front takes ~0.6 (docs/srwmr.md)."""
+    for cfg, share in ((lf.earlier_robot(), 0.5), (lf.fitted_robot(), 0.6)):
+        p = axle_positions(cfg, [0.0, 0.0], level_zeta(cfg, [0.0, 0.0]))
+        got = lf.evaluate(cfg)["middle_lift_front_share"]
+        assert got == pytest.approx(share, abs=0.01)
+        # the same from the lever rule written out: front load x front arm = rear load x rear arm
+        front, rear = p[0, 0], -p[4, 0]
+        assert got * front == pytest.approx((1 - got) * rear)

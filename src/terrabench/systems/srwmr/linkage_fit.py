@@ -186,6 +186,12 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
         "clearance_max_m": float(cmax),
         "fm_at_500_m": wb500,
         "middle_per_lift": float(J[2, 0] / rise),
+        # a middle wheel lifted with its side clutched: the side, rigid on its pivot (the hinge,
+        # x = 0) that passes no moment, splits its load front / rear by the levers; at nominal.
+        # Task 6: "the front and rear wheels almost equally shared the additional wheel loads when
+        # the middle wheel was lifted" (0.5). A reading, not a target: added as one (tol 0.05) the
+        # refit stays at 0.60 (docs/srwmr.md, "The middle lift's load spread is the linkage's lever")
+        "middle_lift_front_share": float(-p[4, 0] / (p[0, 0] - p[4, 0])),
         "fm_m": float(fm),
         "mr_m": float(mr),
         "load_front_N": float(loads[0]),
@@ -248,7 +254,8 @@ def table(cfg: RobotConfig) -> str:
         v = getattr(cfg, k)
         rows.append(f"| {k} | {v:.4f}{' rad (%.1f deg)' % math.degrees(v) if 'angle' in k else ' m'} |")
     rows.append(f"| body_drop (derived: 250 mm clearance) | {cfg.body_drop:.4f} m |")
-    extra = ("fm_m", "mr_m", "middle_per_lift", "load_front_N", "load_middle_N", "load_rear_N")
+    extra = ("fm_m", "mr_m", "middle_per_lift", "load_front_N", "load_middle_N", "load_rear_N",
+             "middle_lift_front_share")
     rows.append("")
     rows.append("Predicted, not fitted: " + ", ".join(f"{k} {vals[k]:.3g}" for k in extra))
     return "\n".join(rows)

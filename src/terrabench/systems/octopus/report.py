@@ -528,7 +528,7 @@ def _releases(page: Any, plt, store, g, order, default_ids: set[str], system: An
 #: the paper's tasks that get a clip, with the mode shown (CLM everywhere; CCM where it fails the paper's way)
 #: the cut clips: (task, method, from event, to event) of :meth:`OctopusSystem.clip_events`
 CLIP_CUTS = (("step-400", "clm", "climb", "walk_on"), ("terrace2-front", "clm", "climb", "walk_on"),
-             ("step-400", "ccm", "press", "end"))
+             ("terrace2-side", "clm", "climb", "walk_on"), ("step-400", "ccm", "press", "end"))
 CLIP_TASKS = (("step-400", "clm"), ("step-400", "ccm"), ("terrace2-front", "clm"), ("terrace2-side", "clm"),
               ("block-500", "clm"))
 

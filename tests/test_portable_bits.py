@@ -121,3 +121,40 @@ def test_golden_trials_give_the_pinned_bits_under_other_cpu_paths():
         assert got["dispatch"]["pinned"] is True
         diff = {k: (got["digests"].get(k), v) for k, v in PINNED.items() if got["digests"].get(k) != v}
         assert not diff, f"{name}: golden trials changed bits (got, pinned): {diff}"
+
+
+def test_an_unpinned_process_is_warned_once_and_a_pinned_one_not(monkeypatch):
+    """A notebook or learner that builds an env in a process started without the pins gets one
+    warning naming the fix; a pinned process, or one that asked for native paths, gets none."""
+    import warnings
+
+    from terrabench import portable
+
+    monkeypatch.setattr(portable, "_WARNED", set())
+    monkeypatch.setattr(portable, "_glibc_linux", lambda: True)
+    for k in (portable._MARK, portable.NATIVE_ENV):
+        monkeypatch.delenv(k, raising=False)
+    with pytest.warns(portable.UnpinnedWarning, match="terrabench pins"):
+        assert portable.warn_if_unpinned("here")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not portable.warn_if_unpinned("here")  # once per place
+        monkeypatch.setenv(portable._MARK, "1")
+        assert not portable.warn_if_unpinned("pinned")
+        monkeypatch.delenv(portable._MARK)
+        monkeypatch.setenv(portable.NATIVE_ENV, "1")
+        assert not portable.warn_if_unpinned("native")
+
+
+def test_an_env_built_unpinned_says_so(monkeypatch):
+    import gymnasium
+
+    import terrabench.envs  # noqa: F401  (registers the ids)
+    from terrabench import portable
+
+    monkeypatch.setattr(portable, "_WARNED", set())
+    monkeypatch.setattr(portable, "_glibc_linux", lambda: True)
+    for k in (portable._MARK, portable.NATIVE_ENV):
+        monkeypatch.delenv(k, raising=False)
+    with pytest.warns(portable.UnpinnedWarning, match="gymnasium env over 'mrs-cwc'"):
+        gymnasium.make("terrabench/MRSCWC-v1", method="cwc-tdt", instance="A-01").close()

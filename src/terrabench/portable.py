@@ -120,3 +120,28 @@ def state() -> dict[str, Any]:
     if numba is not None:
         out["numba_cpu"] = numba.config.CPU_NAME or "host"
     return out
+
+
+class UnpinnedWarning(UserWarning):
+    """Trials run in this process take the CPU's own code paths (:func:`warn_if_unpinned`)."""
+
+
+_WARNED: set[str] = set()
+
+
+def warn_if_unpinned(where: str) -> bool:
+    """Warn once per process (and ``where``) when trials run here would take the CPU's native code
+    paths: glibc Linux, pins wanted, but the process was not started with them (a notebook or a
+    learner that imports terrabench, where the ``terrabench`` command would have re-executed
+    itself). Its trials are then not bitwise the stored rows on another CPU. Returns whether it
+    warned."""
+    import warnings
+
+    if os.environ.get(_MARK) == "1" or not wanted() or not _glibc_linux() or where in _WARNED:
+        return False
+    _WARNED.add(where)
+    warnings.warn(f"{where}: this Python process was not started with terrabench's CPU pins, so its trials take "
+                  "this CPU's native code paths and their bits may differ from the stored rows on another CPU; "
+                  "start Python after `eval \"$(terrabench pins)\"` (or set TERRABENCH_NATIVE_CPU=1 to run "
+                  "natively without this warning)", UnpinnedWarning, stacklevel=3)
+    return True

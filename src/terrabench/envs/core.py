@@ -104,6 +104,7 @@ class TerrabenchEnv(gymnasium.Env):
                  overrides: Mapping[str, Any] | None = None, render_mode: str | None = None,
                  width: int = 480, height: int = 360, dtype: str = "float64", normalize_actions: bool = False,
                  flat_observations: bool = False):
+        from terrabench import portable
         from terrabench.catalog import system as get_system
 
         if render_mode not in (None, *self.metadata["render_modes"]):
@@ -122,6 +123,7 @@ class TerrabenchEnv(gymnasium.Env):
             if not isinstance(v, bool):
                 raise ValueError(f"{name} must be True or False, got {v!r}")
         self.system = get_system(system)
+        portable.warn_if_unpinned(f"gymnasium env over {system!r}")
         try:
             self.adapter = self.system.env_adapter()
         except NotImplementedError as exc:

@@ -35,3 +35,26 @@ def test_without_arm_moving_the_tips_roll_along():
     tracking) roll over the ground about as far as the body moves."""
     p = probe_walk(25.0, {"clm.arm_moving": False})
     assert np.median(p.all_drifts()) > 0.1
+
+
+def test_the_crawlers_lie_inside_the_tips_polygon_exactly_when_four_arms_support():
+    """The paper's Fig. 7 property, as stored (``crawlers_in_tips``, ``crawlers_enclosed_share``):
+    with four supporting tips around the body the four track pulleys are inside their polygon; with
+    three, the pulley at the missing arm's corner lies beyond the triangle's diagonal, so a crawl
+    gait with one arm in transfer cannot hold it (docs/octopus.md, "The crawlers inside the tips'
+    polygon")."""
+    from terrabench.systems.octopus.scenarios import SYSTEM
+
+    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], overrides={"protocol.timeout": 18.0})[0]
+    r = SYSTEM.run_trial(spec)
+    ts = r.timeseries
+    depth, mode, tips, moving = ts["crawlers_in_tips"], ts["mode"], ts["tip_contact"], ts["moving_arm"]
+    walk = (mode == 0) & (ts["t"] > 1.0)
+    supports = np.array([sum(int(b) >> i & 1 and i != int(mv) for i in range(4)) if np.isfinite(mv) else 0
+                         for b, mv in zip(tips, moving)])
+    four, three = walk & (supports == 4), walk & (supports == 3)
+    assert four.sum() >= 5 and three.sum() >= 5
+    assert (depth[four] > 0.1).all() and (depth[three] < 0.0).all()
+    assert np.isnan(depth[walk & (supports < 3)]).all()
+    share = r.metrics["crawlers_enclosed_share"]
+    assert 0.0 < share < 1.0

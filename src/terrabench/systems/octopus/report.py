@@ -145,6 +145,7 @@ MECHANISM = (
     ("tip_slip_climb_max_m", "tip slip max m (support phase, climb)", "- (paper: not kept, Fig. 9e)"),
     ("tracks_stopped_share", "tracks stopped (walking ticks)", "< 0.05"),
     ("walk_speed_mean_mps", "crawler speed mean m/s (walking ticks)", "fixed and low [S]"),
+    ("crawlers_enclosed_share", "crawlers inside the supporting tips (walking rows)", "always (Fig. 7)"),
     ("margin_min_m", "static margin min m", "paper's min margin"),
     ("margin_sensed_min_m", "sensed margin min m", "-"),
 )

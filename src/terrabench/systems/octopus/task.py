@@ -29,7 +29,7 @@ COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "ti
            "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR",
            "margin_all", "quasi", "track_share", "track_power",
            "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow",
-           "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode")
+           "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode", "crawlers_in_tips")
 #: a contact counts in the support polygon if its geom carried this normal force (N) ...
 SUPPORT_LOAD = 20.0
 #: ... within this long (s)
@@ -444,7 +444,7 @@ class OctopusTask(TaskBase):
         # the same, restarted when the controller's mode changes (walk, climb, release)
         self._tip_start_mode: list[list[float] | None] = [None] * len(ARMS)
         self._mech_mode = float("nan")
-        self._mech = (float("nan"),) * 4
+        self._mech = (float("nan"),) * 5
         self.apply_tracks(np.zeros(2))
         return self.obs
 
@@ -730,10 +730,17 @@ class OctopusTask(TaskBase):
                 te[0], te[1], te[2], te[3],
                 m_all, quasi, share, tpow, *rf, *rr, *self._mech)
 
-    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float]:
+    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float, float]:
         """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
         tip drift within the current support phases (m), the commanded crawler speed (m/s), the
-        largest tip drift within the current support phases and controller mode (m)).
+        largest tip drift within the current support phases and controller mode (m), how deep the
+        crawlers lie inside the supporting tips' polygon (m)).
+
+        The last is the paper's Fig. 7 property ("there are at least three arms support robot at
+        any time ... Four crawler are included in the blue polygon"): the least signed distance of
+        the four track pulley centres from the edge of the hull of the supporting tips (in contact,
+        not the arm in transfer), in the horizontal plane; positive when every pulley is inside,
+        NaN with fewer than three supporting tips.
 
         The sensed margin is the one the robot can compute itself: the supporting tips (those
         whose foot switch, the tip-contact bit, is on) by forward kinematics plus the track
@@ -777,7 +784,12 @@ class OctopusTask(TaskBase):
             v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)
         else:
             v = float("nan")
-        return float(sensed), drift, v, drift_mode
+        support = [i for i in range(len(ARMS)) if tips >> i & 1 and i != moving]
+        inside = float("nan")
+        if len(support) >= 3:
+            hull = gx[self.tip_geoms[support], :2]
+            inside = min(stability_margin(hull, p) for p in gx[self._foot, :2])
+        return float(sensed), drift, v, drift_mode, float(inside)
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
@@ -828,8 +840,10 @@ class OctopusTask(TaskBase):
         (share of CLM walking rows with the crawlers commanded < 1 mm/s; NaN for CCM, which has
         no walk), ``walk_speed_mean_mps`` (the crawlers' mean commanded speed over those rows: a
         walk slowed for its arms, ``clm.gait_pace``, reads here), ``margin_min_m`` (the static
-        margin, as ``min_margin``) and
-        ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`)."""
+        margin, as ``min_margin``),
+        ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`) and
+        ``crawlers_enclosed_share`` (share of CLM's walking rows with the crawlers inside the
+        supporting tips' polygon, the paper's Fig. 7; NaN for CCM)."""
         from terrabench.systems.octopus import ccm, clm
 
         nan = float("nan")
@@ -837,6 +851,7 @@ class OctopusTask(TaskBase):
         climb_modes = {"clm": (clm.CLIMB, clm.RELEASE), "ccm": (ccm.PRESS, ccm.PUSH, ccm.FLATTEN)}.get(self.method, ())
         climb = np.isin(mode, climb_modes) & np.isfinite(share)
         slip, sensed, vcmd = (log.column(c)[idx] for c in ("tip_slip", "margin_sensed", "track_cmd"))
+        enclosed = np.nan_to_num(log.column("crawlers_in_tips")[idx], nan=-1.0)
         slip_mode = log.column("tip_slip_mode")[idx]
         walk = mode == clm.WALK if self.method == "clm" else np.zeros(len(mode), bool)
         in_climb = np.isin(mode, climb_modes)
@@ -851,6 +866,9 @@ class OctopusTask(TaskBase):
             "walk_speed_mean_mps": fin(vcmd[walk], np.mean),
             "margin_min_m": fin(m_static, np.min),
             "margin_sensed_min_m": fin(sensed, np.min),
+            # Fig. 7: the walking rows whose crawlers lie inside the supporting tips' polygon (a row
+            # with fewer than three supporting tips does not count as inside)
+            "crawlers_enclosed_share": float(np.mean(enclosed[walk] > 0.0)) if walk.any() else nan,
         }
 
     def info(self) -> dict:

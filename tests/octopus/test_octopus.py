@@ -104,6 +104,19 @@ def test_stability_margin():
     assert stability_margin(tri, [1, 0.1]) == pytest.approx(0.1)
 
 
+def test_least_depth_is_the_smallest_margin_of_the_points_bit_for_bit():
+    from terrabench.systems.octopus.stability import least_depth
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        support = rng.normal(0, 0.6, (int(rng.integers(3, 5)), 2))
+        pts = rng.normal(0, 0.3, (4, 2))
+        assert least_depth(support, pts) == min(stability_margin(support, p) for p in pts)
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    assert least_depth(sq, np.array([[0.5, 0.5], [0.9, 0.5]])) == pytest.approx(0.1)  # the shallower one
+    assert least_depth(sq, np.array([[0.5, 0.5], [1.2, 0.5]])) == pytest.approx(-0.2)  # one outside
+
+
 def test_pieces_pure():
     a = pieces.jitter(np.random.default_rng(3), 0.03, 3.0)
     b = pieces.jitter(np.random.default_rng(3), 0.03, 3.0)

@@ -109,6 +109,20 @@ def _margin_parts(pts, cx, cy):  # pragma: no cover
     return m, inside, d
 
 
+@numba.njit(cache=True)
+def least_depth(support_xy, points_xy):  # pragma: no cover
+    """The least signed distance (m) of the (k, 2) ``points_xy`` from the edge of the hull of the
+    (n, 2) ``support_xy`` (positive inside): :func:`stability_margin` of each point, compiled in
+    one call (the Fig. 7 property's reading; the support must span an area, n >= 3)."""
+    best = math.inf
+    for k in range(points_xy.shape[0]):
+        m, inside, d = _margin_parts(support_xy, points_xy[k, 0], points_xy[k, 1])
+        v = d if inside else -d
+        if v < best:
+            best = v
+    return best
+
+
 def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     """Signed distance (m) from ``cog_xy`` (2,) to the boundary of the hull of ``support_xy`` (n, 2).
 

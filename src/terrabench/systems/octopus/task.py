@@ -21,7 +21,7 @@ from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
 from terrabench.systems.octopus.rules import Command
 from terrabench.systems.octopus.sensing import Observation, roll_pitch
-from terrabench.systems.octopus.stability import Footprint, stability_margin
+from terrabench.systems.octopus.stability import Footprint, least_depth, stability_margin
 from terrabench.terrain import pieces
 from terrabench.terrain.mjcf import GROUND_BIT
 
@@ -787,8 +787,7 @@ class OctopusTask(TaskBase):
         support = [i for i in range(len(ARMS)) if tips >> i & 1 and i != moving]
         inside = float("nan")
         if len(support) >= 3:
-            hull = gx[self.tip_geoms[support], :2]
-            inside = min(stability_margin(hull, p) for p in gx[self._foot, :2])
+            inside = least_depth(gx[self.tip_geoms[support], :2], gx[self._foot, :2])
         return float(sensed), drift, v, drift_mode, float(inside)
 
     def power(self, obs: Observation) -> float:

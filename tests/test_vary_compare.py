@@ -105,3 +105,19 @@ def test_compare_refuses_bad_input_in_one_line(args, needle, tmp_path):
 def test_compare_without_a_store_says_how_to_make_one(tmp_path):
     r = invoke("compare", "mrs-cwc", "--store", str(tmp_path / "none.duckdb"))
     assert r.exit_code == 2 and "does not exist" in r.text
+
+
+def test_compare_shows_a_few_metrics_of_a_system_without_headline_ones(tmp_path):
+    """beams names no headline metrics: the terminal gets the first few and says how many more
+    (the CSV has every one), instead of a table too wide to read."""
+    from terrabench.cli import COMPARE_COLUMNS
+
+    store = str(tmp_path / "b.duckdb")
+    r = invoke("run", "beams", "--group", "traversal", "--methods", "avoid", "--vary", "robot.mass=0.2,0.25",
+               "--store", store, "--quiet", "--workers", "1")
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "b.csv"
+    r = invoke("compare", "beams", "--store", store, "--out", str(out))
+    assert r.exit_code == 0, r.output
+    n_all = (len(next(csv.reader(open(out)))) - 7) // 3
+    assert n_all > COMPARE_COLUMNS and f"{n_all - COMPARE_COLUMNS} more metrics" in r.text

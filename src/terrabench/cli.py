@@ -370,6 +370,10 @@ def _trial_table(rows, sysobj):
         t.add_row(r["method"], r["instance"], str(r["seed"]), r["status"], shown, f"{r['wall_time']:.1f}")
     return t
 
+#: metric columns `compare` shows by default for a system that names no headline metrics
+COMPARE_COLUMNS = 6
+
+
 def _compare_table(rows, sysobj, metrics):
     """The variants side by side (:mod:`terrabench.report.compare`) and the metrics shown;
     ``metrics`` None: the system's headline metrics that the rows have (every numeric one when it
@@ -378,11 +382,14 @@ def _compare_table(rows, sysobj, metrics):
 
     from terrabench.report import compare as cmp
 
+    caption = None
     if metrics is None:
         have = cmp.metric_names(rows)
-        metrics = [m for m in sysobj.headline_metrics if m in have] or have
+        metrics = [m for m in sysobj.headline_metrics if m in have] or have[:COMPARE_COLUMNS]
+        if len(have) > len(metrics):
+            caption = f"{len(have) - len(metrics)} more metrics: --metrics NAME,... (every one in --out CSV)"
     lines = cmp.compare(rows, sysobj, metrics)
-    t = Table(title="variants side by side: median \\[min, max] over seeds")
+    t = Table(title="variants side by side: median \\[min, max] over seeds", caption=caption)
     for c in ["instance", "variant", "statuses"] + list(metrics):
         t.add_column(c, overflow="fold")  # a label is what tells the lines apart: never cut
     for ln in lines:

@@ -121,3 +121,16 @@ def test_compare_shows_a_few_metrics_of_a_system_without_headline_ones(tmp_path)
     assert r.exit_code == 0, r.output
     n_all = (len(next(csv.reader(open(out)))) - 7) // 3
     assert n_all > COMPARE_COLUMNS and f"{n_all - COMPARE_COLUMNS} more metrics" in r.text
+
+
+def test_the_plot_puts_methods_with_the_same_settings_on_one_tick(tmp_path):
+    """Two methods swept over the same values share the x ticks (one per setting), each its own
+    series, instead of following one another along x."""
+    from terrabench.report.compare import Line, _short, plot
+
+    lines = [Line("t", m, f"{m} (k={v})", {"k": v}, 1, {"success": 1}, {"x": (v, v, v)})
+             for m in ("a", "b") for v in (1.0, 2.0)]
+    assert len({_short(ln.label) for ln in lines}) == 2
+    out = tmp_path / "p.png"
+    plot(lines, ["x"], out)
+    assert out.read_bytes()[:4] == b"\x89PNG"

@@ -154,37 +154,38 @@ def write_csv(lines: Sequence[Line], path: Path) -> None:
 
 
 def plot(lines: Sequence[Line], metrics: Sequence[str], path: Path) -> None:
-    """One panel per metric: for each instance, the median (marker) and the seeds' range (bar) of
-    each variant, variants along x in the lines' order; written as PNG at ``path``."""
+    """One panel per metric: for each (instance, method), the median (marker) and the seeds' range
+    (bar) of each of its variants, the settings along x (one tick per set of settings, shared by
+    the methods); written as PNG at ``path``."""
     from matplotlib.figure import Figure
 
-    labels = list(dict.fromkeys(ln.label for ln in lines))
-    instances = list(dict.fromkeys(ln.instance for ln in lines))
+    ticks = list(dict.fromkeys(_short(ln.label) for ln in lines))
+    series = list(dict.fromkeys((ln.instance, ln.method) for ln in lines))
+    several = len({m for _, m in series}) > 1
     cols = min(3, len(metrics))
     rows = -(-len(metrics) // cols)
     fig = Figure(figsize=(4.2 * cols, 3.2 * rows + 0.6), layout="constrained")
     axes = fig.subplots(rows, cols, squeeze=False).ravel()
-    width = 0.6 / max(len(instances), 1)
-    ticks = [_short(lb) for lb in labels]
+    width = 0.6 / max(len(series), 1)
     keys = {t.partition("=")[0] for t in ticks}
     one_key = len(keys) == 1 and all("=" in t and ", " not in t for t in ticks)
-    if one_key:  # one setting varied: its values on the axis, its name under it
-        ticks = [t.partition("=")[2] for t in ticks]
+    names = [t.partition("=")[2] for t in ticks] if one_key else ticks  # one setting: its values on x
     for ax, m in zip(axes, metrics):
-        for j, inst in enumerate(instances):
+        for j, (inst, meth) in enumerate(series):
             xs, med, lo, hi = [], [], [], []
             for ln in lines:
                 c = ln.metrics.get(m)
-                if ln.instance == inst and c is not None:
-                    xs.append(labels.index(ln.label) + (j - (len(instances) - 1) / 2) * width)
+                if (ln.instance, ln.method) == (inst, meth) and c is not None:
+                    xs.append(ticks.index(_short(ln.label)) + (j - (len(series) - 1) / 2) * width)
                     med.append(c[0])
                     lo.append(c[0] - c[1])
                     hi.append(c[2] - c[0])
-            if xs:  # an instance keeps its colour in every panel, also where another has no value
-                ax.errorbar(xs, med, yerr=[lo, hi], fmt="o-", ms=4, capsize=2, lw=1, label=inst, color=f"C{j % 10}")
+            if xs:  # a series keeps its colour in every panel, also where another has no value
+                ax.errorbar(xs, med, yerr=[lo, hi], fmt="o-", ms=4, capsize=2, lw=1, color=f"C{j % 10}",
+                            label=f"{inst} {meth}" if several else inst)
         ax.set_title(m, fontsize="medium")
-        ax.set_xticks(range(len(labels)))
-        ax.set_xticklabels(ticks, rotation=0 if one_key else 30, ha="center" if one_key else "right",
+        ax.set_xticks(range(len(ticks)))
+        ax.set_xticklabels(names, rotation=0 if one_key else 30, ha="center" if one_key else "right",
                            fontsize="small")
         if one_key:
             ax.set_xlabel(next(iter(keys)), fontsize="small")
@@ -195,9 +196,8 @@ def plot(lines: Sequence[Line], metrics: Sequence[str], path: Path) -> None:
     for ax in axes[: len(metrics)]:
         for h, name in zip(*ax.get_legend_handles_labels()):
             seen.setdefault(name, h)
-    handles, names = list(seen.values()), list(seen)
-    fig.legend(handles, names, loc="outside lower center", ncols=min(len(instances), 5), fontsize="small",
-               frameon=False)
+    fig.legend(list(seen.values()), list(seen), loc="outside lower center", ncols=min(len(seen), 5) or 1,
+               fontsize="small", frameon=False)
     fig.suptitle("median (marker) and range over seeds (bar)", fontsize="medium")
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

@@ -134,3 +134,10 @@ def test_the_plot_puts_methods_with_the_same_settings_on_one_tick(tmp_path):
     out = tmp_path / "p.png"
     plot(lines, ["x"], out)
     assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_varying_a_setting_no_planned_method_reads_is_refused():
+    """cwc-tdt stores no `follow` section: varying follow.speed_gain would run one trial twice."""
+    with pytest.raises(ValueError, match="--vary follow.speed_gain: no planned trial reads it"):
+        plan_variations(get_system("mrs-cwc"), vary={"follow.speed_gain": [4.0, 5.0]}, instances=["A-01"],
+                        methods=["cwc-tdt"])

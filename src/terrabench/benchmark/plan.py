@@ -137,5 +137,11 @@ def plan_variations(system: Any, *, vary: Mapping[str, Sequence[Any]], overrides
             if spec.key not in seen:
                 seen.add(spec.key)
                 planned.append((spec.seed, ci * len(specs) + si, spec))
+    for key in keys:  # a setting no planned trial stores cannot vary anything: say so, do not run copies
+        section = key.split(".")[0]
+        if not any(section in spec.config for _, _, spec in planned):
+            read = sorted({k for _, _, spec in planned for k in spec.config})
+            raise ValueError(f"--vary {key}: no planned trial reads it (the methods' configs hold "
+                             f"{', '.join(read)}); vary a setting of those sections")
     planned.sort(key=lambda t: (t[0], t[1]))
     return [p[2] for p in planned], combos

@@ -41,9 +41,9 @@ def test_bad_variations_are_one_line_naming_them(items, needle):
 
 def test_every_combination_is_planned_once_and_every_value_checked_before_running():
     mrs = get_system("mrs-cwc")
-    specs, combos = plan_variations(mrs, vary={"chain.k_pitch": [10.0, 20.0], "chain.k_roll": [30.0, 40.0]},
-                                    instances=["A-01"], methods=["cwc-tdt"], seeds=2)
-    assert len(combos) == 4 and len(specs) == 8 and len({s.key for s in specs}) == 8
+    specs = plan_variations(mrs, vary={"chain.k_pitch": [10.0, 20.0], "chain.k_roll": [30.0, 40.0]},
+                            instances=["A-01"], methods=["cwc-tdt"], seeds=2)
+    assert len(specs) == 8 and len({s.key for s in specs}) == 8
     assert [s.seed for s in specs] == [0, 0, 0, 0, 1, 1, 1, 1]  # seed-major: an interrupted run has every variant
     got = {(s.config["chain"]["k_pitch"], s.config["chain"]["k_roll"]) for s in specs}
     assert got == {(10.0, 30.0), (10.0, 40.0), (20.0, 30.0), (20.0, 40.0)}
@@ -56,7 +56,7 @@ def test_every_combination_is_planned_once_and_every_value_checked_before_runnin
 
 def test_a_method_that_does_not_read_the_varied_setting_is_planned_once():
     mrs = get_system("mrs-cwc")  # its trials store only the sections their method reads
-    specs, _ = plan_variations(mrs, vary={"follow.speed_gain": [4.0, 5.0]}, instances=["A-01"],
+    specs = plan_variations(mrs, vary={"follow.speed_gain": [4.0, 5.0]}, instances=["A-01"],
                                methods=["cwc-tdt", "d-tdt"])
     assert sorted(s.method for s in specs) == ["cwc-tdt", "d-tdt", "d-tdt"]
 
@@ -89,7 +89,7 @@ def test_a_varied_run_stores_each_variant_and_compare_puts_them_side_by_side(tmp
     (["--group", "Q"], "unknown mrs-cwc group 'Q'"),
     (["--terrains", "B-01"], "no mrs-cwc trials in"),
     (["--terrains", "Z-99"], "unknown terrain id"),
-    (["--terrains", "A-01", "--group", "A"], "either --terrains or --group"),
+    (["--terrains", "A-01", "--group", "A"], "give either instances (--terrains) or --group, not both"),
     (["--out", "x.txt"], "unknown suffix"),
     (["--plot", "x.pdf"], "unknown suffix"),
 ])
@@ -110,7 +110,7 @@ def test_compare_without_a_store_says_how_to_make_one(tmp_path):
 def test_compare_shows_a_few_metrics_of_a_system_without_headline_ones(tmp_path):
     """beams names no headline metrics: the terminal gets the first few and says how many more
     (the CSV has every one), instead of a table too wide to read."""
-    from terrabench.cli import COMPARE_COLUMNS
+    from terrabench.report.compare import SHOWN_DEFAULT as COMPARE_COLUMNS
 
     store = str(tmp_path / "b.duckdb")
     r = invoke("run", "beams", "--group", "traversal", "--methods", "avoid", "--vary", "robot.mass=0.2,0.25",

@@ -242,7 +242,7 @@ def run(
     if variations:
         from terrabench.benchmark.plan import plan_variations
 
-        specs, _ = plan_variations(sysobj, vary=variations, overrides=overrides, **request)
+        specs = plan_variations(sysobj, vary=variations, overrides=overrides, **request)
     else:
         specs = sysobj.plan(overrides=overrides, **request)
     if not specs:  # e.g. a method that does not apply to the group: an error, not a silent no-op
@@ -267,7 +267,11 @@ def run(
     if not quiet:
         console.print(_trial_table(rows, sysobj))
     if variations:  # the system's summary would mix the variants: them side by side instead
-        console.print(_compare_table(rows, sysobj, None)[0])
+        from terrabench.report import compare as cmp
+
+        lines = cmp.compare(rows, sysobj)
+        shown = cmp.shown_metrics(lines, sysobj)
+        console.print(_compare_table(lines, shown))
         console.print(f"more metrics: terrabench compare {sysobj.id} --store {store} --metrics NAME,...",
                       highlight=False)
     else:
@@ -370,31 +374,20 @@ def _trial_table(rows, sysobj):
         t.add_row(r["method"], r["instance"], str(r["seed"]), r["status"], shown, f"{r['wall_time']:.1f}")
     return t
 
-#: metric columns `compare` shows by default for a system that names no headline metrics
-COMPARE_COLUMNS = 6
-
-
-def _compare_table(rows, sysobj, metrics):
-    """The variants side by side (:mod:`terrabench.report.compare`) and the metrics shown;
-    ``metrics`` None: the system's headline metrics that the rows have (every numeric one when it
-    names none)."""
+def _compare_table(lines, metrics, hidden: int = 0):
+    """The variants side by side (:mod:`terrabench.report.compare`'s lines) in ``metrics``;
+    ``hidden``: how many more metrics the lines carry (said under the table)."""
     from rich.table import Table
 
     from terrabench.report import compare as cmp
 
-    caption = None
-    if metrics is None:
-        have = cmp.metric_names(rows)
-        metrics = [m for m in sysobj.headline_metrics if m in have] or have[:COMPARE_COLUMNS]
-        if len(have) > len(metrics):
-            caption = f"{len(have) - len(metrics)} more metrics: --metrics NAME,... (every one in --out CSV)"
-    lines = cmp.compare(rows, sysobj, metrics)
+    caption = f"{hidden} more metrics: --metrics NAME,... (every one in --out CSV)" if hidden else None
     t = Table(title="variants side by side: median \\[min, max] over seeds", caption=caption)
     for c in ["instance", "variant", "statuses"] + list(metrics):
         t.add_column(c, overflow="fold")  # a label is what tells the lines apart: never cut
     for ln in lines:
         t.add_row(ln.instance, ln.label, cmp.statuses_text(ln), *(cmp.cell_text(ln.metrics[m]) for m in metrics))
-    return t, list(metrics)
+    return t
 
 
 @app.command()
@@ -433,13 +426,14 @@ def compare(
         raise ValueError(f"no {sysobj.id} trials in {str(store)!r} match; `terrabench run {sysobj.id} --store "
                          f"{store}` stores them")
     names = _split(metrics, "--metrics", lambda: ", ".join(cmp.metric_names(rows)))
-    table, shown = _compare_table(rows, sysobj, names)
-    console.print(table)
+    lines = cmp.compare(rows, sysobj, names)  # every numeric metric when none are named (the CSV's)
+    shown = names or cmp.shown_metrics(lines, sysobj)
+    console.print(_compare_table(lines, shown, 0 if names else len(lines[0].metrics) - len(shown)))
     if out is not None:
-        cmp.write_csv(cmp.compare(rows, sysobj, names), out)
+        cmp.write_csv(lines, out)
         console.print(f"written: {out}", highlight=False)
     if plot is not None:
-        cmp.plot(cmp.compare(rows, sysobj, shown), shown, plot)
+        cmp.plot(lines, shown, plot)
         console.print(f"written: {plot}", highlight=False)
 
 

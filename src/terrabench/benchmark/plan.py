@@ -58,6 +58,18 @@ def split_ids(value: Sequence[str] | None, what: str, valid: Sequence[str]) -> l
     return items
 
 
+def check_group(system: Any, group: str | None, instances: Sequence[str] | None = None) -> None:
+    """ValueError for a group ``system`` does not have (one line with the valid ones) or for a
+    group given together with instances; None: no group."""
+    if group is None:
+        return
+    valid_groups = list(system.groups) + ["all"]
+    if group not in valid_groups:
+        raise ValueError(f"unknown {system.id} group {group!r}; valid: {', '.join(valid_groups)}")
+    if instances is not None:
+        raise ValueError("give either instances (--terrains) or --group, not both")
+
+
 def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
                group: str | None = None, seeds: int = 1, overrides: Mapping[str, Any] | None = None) -> list[TrialSpec]:
     """Trial specs of ``system`` for (methods x instances x seeds), seed-major.
@@ -75,12 +87,7 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
         mids = list(known)
     else:
         mids = split_ids(methods, f"{system.id} method(s)", list(known)) or system.default_methods()
-    if group is not None:
-        valid_groups = list(system.groups) + ["all"]
-        if group not in valid_groups:
-            raise ValueError(f"unknown {system.id} group {group!r}; valid: {', '.join(valid_groups)}")
-        if instances is not None:
-            raise ValueError("give either instances (--terrains) or --group, not both")
+    check_group(system, group, instances)
     if instances is not None:
         check_id_list(instances, f"{system.id} instance(s)", lambda: system.instances(None), system.id)
         chosen = system.select_instances(instances)
@@ -107,9 +114,9 @@ def plan_specs(system: Any, *, methods: Sequence[str] | None = None, instances: 
 
 
 def plan_variations(system: Any, *, vary: Mapping[str, Sequence[Any]], overrides: Mapping[str, Any] | None = None,
-                    **request: Any) -> tuple[list[TrialSpec], list[dict[str, Any]]]:
+                    **request: Any) -> list[TrialSpec]:
     """Trial specs of one request under every combination of ``vary`` (key -> values; the
-    cartesian product, each combination on top of ``overrides``), and the combinations.
+    cartesian product, each combination on top of ``overrides``).
 
     ``request`` is :meth:`~terrabench.systems.base.System.plan`'s (methods, instances, group,
     seeds). Every combination is planned, so every value is checked against its field's range,
@@ -144,4 +151,4 @@ def plan_variations(system: Any, *, vary: Mapping[str, Sequence[Any]], overrides
             raise ValueError(f"--vary {key}: no planned trial reads it (the methods' configs hold "
                              f"{', '.join(read)}); vary a setting of those sections")
     planned.sort(key=lambda t: (t[0], t[1]))
-    return [p[2] for p in planned], combos
+    return [p[2] for p in planned]

@@ -64,17 +64,25 @@ def metric_names(rows: Sequence[dict[str, Any]]) -> list[str]:
     return sorted({k for r in rows for k, v in r["metrics"].items() if _number(v) is not None})
 
 
+#: metric columns shown by default for a system that names no headline metrics
+SHOWN_DEFAULT = 6
+
+
+def shown_metrics(lines: Sequence[Line], system: System) -> list[str]:
+    """The metrics a terminal table of ``lines`` shows by default: the system's headline metrics
+    the lines have, else the first :data:`SHOWN_DEFAULT` of them."""
+    have = list(lines[0].metrics) if lines else []
+    return [m for m in system.headline_metrics if m in have] or have[:SHOWN_DEFAULT]
+
+
 def check_selection(system: System, *, methods: Sequence[str] | None = None, instances: Sequence[str] | None = None,
                     group: str | None = None) -> None:
     """ValueError, one line naming the bad value and the valid ones, for a method, instance or
     group ``system`` does not have, or for instances and a group both given (None: not given)."""
-    from terrabench.benchmark.plan import split_ids
+    from terrabench.benchmark.plan import check_group, split_ids
 
-    if group is not None and instances is not None:
-        raise ValueError("give either --terrains or --group, not both")
+    check_group(system, group, instances)
     split_ids(methods, f"{system.id} method(s)", list(system.methods()))
-    if group is not None and group not in [*system.groups, "all"]:
-        raise ValueError(f"unknown {system.id} group {group!r}; valid: {', '.join([*system.groups, 'all'])}")
     if instances is not None:
         system.select_instances(instances)
 

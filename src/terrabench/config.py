@@ -564,13 +564,19 @@ def parse_overrides(items: list[str]) -> dict[str, Any]:
         key, sep, raw = item.partition("=")
         if not sep or not key:
             raise ValueError(f"bad override {item!r}; expected KEY=VALUE, e.g. physics.timestep=0.0025")
-        try:
-            out[key.strip()] = yaml.safe_load(raw)
-        except yaml.YAMLError as exc:  # e.g. an unclosed list: one line, not the parser's report
-            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-            raise ValueError(f"bad override {item!r}: the value {raw!r} does not parse ({problem}); "
-                             "valid: a number, true/false, a string or a list like [1, 2]") from None
+        out[key.strip()] = _yaml_value(raw, f"bad override {item!r}: the value {raw!r}",
+                                       "a number, true/false, a string or a list like [1, 2]")
     return out
+
+
+def _yaml_value(text: str, what: str, valid: str) -> Any:
+    """``text`` parsed as YAML; a parse error is one line, ``what`` ... (the problem); valid: ``valid``
+    (e.g. an unclosed list), not the parser's report."""
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ValueError(f"{what} does not parse ({problem}); valid: {valid}") from None
 
 
 def parse_variations(items: list[str]) -> dict[str, list[Any]]:
@@ -588,12 +594,8 @@ def parse_variations(items: list[str]) -> dict[str, list[Any]]:
         if not sep or not key or not raw.strip():
             raise ValueError(f"bad variation {item!r}; expected KEY=V1,V2,..., e.g. robot.roller_damping=0.02,5")
         text = raw.strip()
-        try:
-            values = yaml.safe_load(text if text.startswith("[") else f"[{text}]")
-        except yaml.YAMLError as exc:
-            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-            raise ValueError(f"bad variation {item!r}: {raw!r} does not parse ({problem}); valid: values separated "
-                             "by commas (0.02,5) or a list ([0.02, 5])") from None
+        values = _yaml_value(text if text.startswith("[") else f"[{text}]", f"bad variation {item!r}: {raw!r}",
+                             "values separated by commas (0.02,5) or a list ([0.02, 5])")
         if not isinstance(values, list):
             raise ValueError(f"bad variation {item!r}: expected a list of values, got {values!r}")
         if key in out:

@@ -767,8 +767,10 @@ class OctopusTask(TaskBase):
         # block's face and slides down it is a collision, not a foothold)
         moving = cmd.moving_arm if cmd is not None else -1
         drift = drift_mode = 0.0
+        support = []  # the supporting arms: tip in contact, not the arm in transfer
         for i in range(len(ARMS)):
             if tips >> i & 1 and i != moving:
+                support.append(i)
                 if st[i] is None:
                     st[i] = tp[i]
                 else:
@@ -784,7 +786,6 @@ class OctopusTask(TaskBase):
             v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)
         else:
             v = float("nan")
-        support = [i for i in range(len(ARMS)) if tips >> i & 1 and i != moving]
         inside = float("nan")
         if len(support) >= 3:
             inside = least_depth(gx[self.tip_geoms[support], :2], gx[self._foot, :2])

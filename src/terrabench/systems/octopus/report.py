@@ -145,7 +145,10 @@ MECHANISM = (
     ("tip_slip_climb_max_m", "tip slip max m (support phase, climb)", "- (paper: not kept, Fig. 9e)"),
     ("tracks_stopped_share", "tracks stopped (walking ticks)", "< 0.05"),
     ("walk_speed_mean_mps", "crawler speed mean m/s (walking ticks)", "fixed and low [S]"),
-    ("crawlers_enclosed_share", "crawlers inside the supporting tips (walking rows)", "always (Fig. 7)"),
+    ("crawlers_enclosed_share", "crawlers inside the supporting tips (walking rows)", "always (Fig. 7, the issue's reading)"),
+    ("walk_three_supports_share", "three or more arms support (walking rows)", "always (Fig. 7's premise)"),
+    ("margin_gained_share", "tips widen the crawlers' margin (walking rows)", "always (Fig. 7's conclusion)"),
+    ("margin_gain_walk_min_m", "least margin the tips add m (walking rows)", "> 0 (Fig. 7's conclusion)"),
     ("margin_min_m", "static margin min m", "paper's min margin"),
     ("margin_sensed_min_m", "sensed margin min m", "-"),
 )

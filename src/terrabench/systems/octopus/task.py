@@ -29,7 +29,11 @@ COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "ti
            "flip_front", "flip_rear", "tau_elbow_LF", "tau_elbow_RF", "tau_elbow_LR", "tau_elbow_RR",
            "margin_all", "quasi", "track_share", "track_power",
            "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow",
-           "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode", "crawlers_in_tips")
+           "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode", "crawlers_in_tips",
+           "margin_crawlers")
+#: the supporting tips widen the crawlers' margin (Fig. 7's conclusion) when they add more than this
+#: (m): far above the hull's rounding (~1e-15 m), a millimetre is no stability a robot could use
+GAIN_EPS = 0.001
 #: a contact counts in the support polygon if its geom carried this normal force (N) ...
 SUPPORT_LOAD = 20.0
 #: ... within this long (s)
@@ -730,17 +734,25 @@ class OctopusTask(TaskBase):
                 te[0], te[1], te[2], te[3],
                 m_all, quasi, share, tpow, *rf, *rr, *self._mech)
 
-    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float, float]:
+    def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float, float, float]:
         """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
         tip drift within the current support phases (m), the commanded crawler speed (m/s), the
         largest tip drift within the current support phases and controller mode (m), how deep the
-        crawlers lie inside the supporting tips' polygon (m)).
+        crawlers lie inside the supporting tips' polygon (m), the crawlers' own sensed margin (m)).
 
-        The last is the paper's Fig. 7 property ("there are at least three arms support robot at
-        any time ... Four crawler are included in the blue polygon"): the least signed distance of
-        the four track pulley centres from the edge of the hull of the supporting tips (in contact,
-        not the arm in transfer), in the horizontal plane; positive when every pulley is inside,
-        NaN with fewer than three supporting tips.
+        The paper's Fig. 7 sentence ("there are at least three arms support robot at any time. The
+        polygon constituted by support points were illustrated in blue lines in Fig. 7. Four
+        crawler are included in the blue polygon, which means that robot in CLM always has bigger
+        stability margin than CCM") has two readings, both stored. As the issue reads it, the
+        polygon is the supporting tips' alone: the least signed distance of the four track pulley
+        centres from the edge of the hull of the supporting tips (in contact, not the arm in
+        transfer), in the horizontal plane; positive when every pulley is inside, NaN with fewer
+        than three supporting tips. As its conclusion reads it, the support points are the tips
+        and the crawlers together, whose polygon always contains the crawlers': the claim is then
+        that the margin of that polygon (the sensed margin) is larger than the crawlers' own (the
+        last figure: the four pulleys' hull about the same COG, what CCM's support would give in
+        this pose); the hull of more points is never smaller, so the question is where the tips
+        widen it on the COG's nearest side.
 
         The sensed margin is the one the robot can compute itself: the supporting tips (those
         whose foot switch, the tip-contact bit, is on) by forward kinematics plus the track
@@ -789,7 +801,8 @@ class OctopusTask(TaskBase):
         inside = float("nan")
         if len(support) >= 3:
             inside = least_depth(gx[self.tip_geoms[support], :2], gx[self._foot, :2])
-        return float(sensed), drift, v, drift_mode, float(inside)
+        crawlers = stability_margin(gx[self._foot, :2], self._com_xy)
+        return float(sensed), drift, v, drift_mode, float(inside), float(crawlers)
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
@@ -843,7 +856,12 @@ class OctopusTask(TaskBase):
         margin, as ``min_margin``),
         ``margin_sensed_min_m`` (least sensed margin, :meth:`_mechanism`) and
         ``crawlers_enclosed_share`` (share of CLM's walking rows with the crawlers inside the
-        supporting tips' polygon, the paper's Fig. 7; NaN for CCM)."""
+        supporting tips' polygon, the paper's Fig. 7 as the issue reads it; NaN for CCM),
+        ``walk_three_supports_share`` (share of CLM's walking rows with at least three supporting
+        tips, Fig. 7's premise), ``margin_gain_walk_min_m`` (the least, over CLM's walking rows, of the sensed margin less
+        the crawlers' own: what the supporting tips add, Fig. 7 as the paper concludes from it) and
+        ``margin_gained_share`` (the share of walking rows where the tips add more than
+        ``GAIN_EPS``)."""
         from terrabench.systems.octopus import ccm, clm
 
         nan = float("nan")
@@ -851,7 +869,9 @@ class OctopusTask(TaskBase):
         climb_modes = {"clm": (clm.CLIMB, clm.RELEASE), "ccm": (ccm.PRESS, ccm.PUSH, ccm.FLATTEN)}.get(self.method, ())
         climb = np.isin(mode, climb_modes) & np.isfinite(share)
         slip, sensed, vcmd = (log.column(c)[idx] for c in ("tip_slip", "margin_sensed", "track_cmd"))
-        enclosed = np.nan_to_num(log.column("crawlers_in_tips")[idx], nan=-1.0)
+        depth = log.column("crawlers_in_tips")[idx]
+        enclosed = np.nan_to_num(depth, nan=-1.0)
+        gain = sensed - log.column("margin_crawlers")[idx]
         slip_mode = log.column("tip_slip_mode")[idx]
         walk = mode == clm.WALK if self.method == "clm" else np.zeros(len(mode), bool)
         in_climb = np.isin(mode, climb_modes)
@@ -869,6 +889,13 @@ class OctopusTask(TaskBase):
             # Fig. 7: the walking rows whose crawlers lie inside the supporting tips' polygon (a row
             # with fewer than three supporting tips does not count as inside)
             "crawlers_enclosed_share": float(np.mean(enclosed[walk] > 0.0)) if walk.any() else nan,
+            # Fig. 7's premise, "at least three arms support robot at any time" (the depth is
+            # NaN with fewer)
+            "walk_three_supports_share": float(np.mean(np.isfinite(depth[walk]))) if walk.any() else nan,
+            # Fig. 7's conclusion: the tips and crawlers' polygon gives a larger margin than the
+            # crawlers' alone
+            "margin_gain_walk_min_m": fin(gain[walk], np.min),
+            "margin_gained_share": float(np.mean(gain[walk] > GAIN_EPS)) if walk.any() else nan,
         }
 
     def info(self) -> dict:

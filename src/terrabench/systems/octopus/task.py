@@ -858,8 +858,9 @@ class OctopusTask(TaskBase):
         ``crawlers_enclosed_share`` (share of CLM's walking rows with the crawlers inside the
         supporting tips' polygon, the paper's Fig. 7 as the issue reads it; NaN for CCM),
         ``walk_three_supports_share`` (share of CLM's walking rows with at least three supporting
-        tips, Fig. 7's premise), ``margin_gain_walk_min_m`` (the least, over CLM's walking rows, of the sensed margin less
-        the crawlers' own: what the supporting tips add, Fig. 7 as the paper concludes from it) and
+        tips, Fig. 7's premise), ``margin_gain_walk_min_m`` (the least, over CLM's walking rows, of
+        the sensed margin less the crawlers' own: what the supporting tips add, Fig. 7 as the paper
+        concludes from it) and
         ``margin_gained_share`` (the share of walking rows where the tips add more than
         ``GAIN_EPS``)."""
         from terrabench.systems.octopus import ccm, clm

@@ -133,6 +133,34 @@ def test_sim_mc5_one_side_lift_qp_holds_mc9_and_mc5_without_a_halt_the_twin_halt
     assert any("IK infeasible" in e[3] for e in m.info["events"])
 
 
+def test_sim_mc4_on_a_cross_slope_the_qp_holds_the_levelling_at_kappa_the_twin_halts():
+    """(30 + 25 s of simulated time, ~9 s.) ik-mc4-cross: on a 10 deg cross slope the rover starts
+    on the slope's plane (rolled 10 deg, loads within MC#11 from the first period), lowers to 150
+    mm and is commanded to level the chassis by raising its downhill side ~230 mm. MC#4 (left-right
+    hinge-height asymmetry) is the row that binds: with the rows about the servo targets the QP
+    holds it at kappa without a halt and the chassis keeps most of the slope's roll (50 of ~230 mm
+    levelled); the nominal command (-noqp) crosses kappa and the supervisor halts on MC#4."""
+    import math
+
+    from terrabench.systems.srwmr.ik_cases import CROSS_DEG
+
+    kap = mc.thresholds("RCLM")
+    r = _trial("ik-mc4-cross-target", 30.0)
+    ts, tr = r.timeseries, r.info["qp_trace"]
+    cross = math.radians(CROSS_DEG)
+    assert r.info["cross_deg"] == CROSS_DEG
+    assert abs(ts["roll"][0] - cross) < 1e-9 and abs(ts["roll"][5] - cross) < 0.02
+    assert np.nanmax(ts["eta_MC11"][ts["t"] < 2.0]) < kap[9]
+    assert tr["max_measured"]["MC4"] <= kap[2] * (1 + HALT_TOL) and tr["active_rows"]["MC4"] > 0.2 * tr["periods"]
+    assert not r.info["reminders"]
+    # the right (downhill) side raised as far as MC#4 lets it: the roll falls by 50 mm over the
+    # 1.304 m track at most, nowhere near level
+    drop = ts["roll"][5] - ts["roll"][-1]
+    assert 0.02 < drop < math.atan(0.06 / CFG.track)
+    n = _trial("ik-mc4-cross-noqp", 25.0)
+    assert any("MC4" in e[3] for e in n.info["events"] if e[2] == "HALT")
+
+
 def test_report_section_tables_every_ik_trial_and_draws_one_figure_per_case():
     import matplotlib
 

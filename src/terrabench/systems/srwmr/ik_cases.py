@@ -12,6 +12,11 @@ projection (seed 001 eq. 41) changes the nominal command for a large share of th
 * ``ik-mc4-low``: both sides lowered to 150 mm, then the right side alone raised to 250 mm: at the
   low clearance the hinge rises faster per closing angle than the wheelbase changes, so MC#4
   (left-right hinge-height asymmetry, 50 mm) is the row that binds;
+* ``ik-mc4-cross``: a 10 deg cross slope [R: Task 5's angle, across], the left side uphill; both
+  sides lowered to 150 mm, then the chassis levelled while driving: the right (downhill) side
+  commanded up by the track x tan(10 deg) (~230 mm): MC#4 (50 mm) holds the asymmetry, so the
+  chassis keeps most of the slope's roll (the paper's MC#4 with the slope, not an asymmetric lift,
+  as its cause);
 * ``ik-mc6-fastlift``: standing, a lift at 10 mm/s (2.8x Task 3's 3.6 mm/s) to 400 mm: MC#6 (the
   rocker-induced front-wheel speed against the side's speed, floor 5 mm/s, kappa 0.9) limits the
   closing rate;
@@ -32,6 +37,8 @@ loose soil, the default configuration.
 
 from __future__ import annotations
 
+import math
+
 from terrabench.systems.srwmr.layouts import FLAT, Build, Layout, instance
 from terrabench.systems.srwmr.modes import Step
 
@@ -40,12 +47,15 @@ CASES = {
     "ik-mc3-lift": "MC3",
     "ik-mc5-asym": "MC5",
     "ik-mc4-low": "MC4",
+    "ik-mc4-cross": "MC4",
     "ik-mc6-fastlift": "MC6",
     "ik-mc78-step": "MC7",
 }
 #: the cases whose saturated constraint is a posture (state) ratio: each also as ``<id>-target``,
 #: the QP's rows linearised about the rockers' servo targets (``Step.qp_about_target``)
-TARGET_CASES = ("ik-mc3-lift", "ik-mc5-asym", "ik-mc4-low")
+TARGET_CASES = ("ik-mc3-lift", "ik-mc5-asym", "ik-mc4-low", "ik-mc4-cross")
+#: ik-mc4-cross: the cross slope (deg, left side up) [R: Task 5's 10 deg slope, turned across]
+CROSS_DEG = 10.0
 IK_INSTANCES = tuple(i for c in CASES for i in (c, f"{c}-noqp") + ((f"{c}-target",) if c in TARGET_CASES else ()))
 #: the group's supervisor halts on a monitored ratio (MC#4, #5, #10, #11) above kappa (1 + HALT_TOL),
 #: not at kappa: the QP holds a saturated posture ratio at kappa, the measured one follows it to the
@@ -81,6 +91,12 @@ def _plan(b: Build) -> tuple[tuple, str]:
         return (Step("RCLM", v=0.015, vz=0.01, clearance=0.15, **kw),
                 Step("RCLM", v=0.015, clearance=0.15, clearance_r=0.25, hold_s=30.0, **kw)), \
             "both sides to 150 mm, then the right side alone back to 250 mm: MC#4"
+    if case == "ik-mc4-cross":
+        level = 0.15 + b.robot.track * math.tan(math.radians(CROSS_DEG))
+        return (Step("RCLM", v=0.015, vz=0.01, clearance=0.15, **kw),
+                Step("RCLM", v=0.015, clearance=0.15, clearance_r=level, hold_s=30.0, **kw)), \
+            (f"a {CROSS_DEG:g} deg cross slope, left up: both sides to 150 mm, then the right side toward "
+             f"{level * 1000:.0f} mm to level the chassis: MC#4")
     if case == "ik-mc6-fastlift":
         return (Step("RCLM", v=0.0, vz=0.01, clearance=0.40, hold_s=60.0, **kw),), \
             "standing, lift at 10 mm/s to 400 mm: MC#6"
@@ -99,4 +115,5 @@ def _ik(b: Build) -> Layout:
         note += " (QP bypassed: the nominal command executed)"
     elif variant_of(b.instance) == "target":
         note += " (QP rows linearised about the rockers' servo targets)"
-    return Layout(FLAT, (), "loose", plan, None, note=note + " [issue 27 piece 5]")
+    cross = CROSS_DEG if case_of(b.instance) == "ik-mc4-cross" else 0.0
+    return Layout(FLAT, (), "loose", plan, None, cross_deg=cross, note=note + " [issue 27 piece 5]")

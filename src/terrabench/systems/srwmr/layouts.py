@@ -59,8 +59,10 @@ STEER_S = 200.0
 class Layout:
     """One instance: ``profile`` ((x, z), ...) of the ground, ``boxes`` ((cx, cy, hx, hy, hz), ...)
     obstacles on it, the soil name, the plan, the success line ``goal_x`` (chassis x, m; None:
-    the plan's end), the start height offset ``z0`` (m) of the ground. The time limit is the
-    registration's (:class:`Entry`)."""
+    the plan's end), the start height offset ``z0`` (m) of the ground, the slope ``slope_deg``
+    (deg, along x, as reported) and the cross slope ``cross_deg`` (deg: the ground rises toward
+    +y, the robot's left at the start, by tan(cross_deg) per m, added to the profile). The time
+    limit is the registration's (:class:`Entry`)."""
 
     profile: tuple
     boxes: tuple
@@ -69,6 +71,7 @@ class Layout:
     goal_x: float | None
     z0: float = 0.0
     slope_deg: float = 0.0
+    cross_deg: float = 0.0
     note: str = ""
 
 

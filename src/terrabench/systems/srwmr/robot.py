@@ -346,14 +346,20 @@ def _pillar_and_wheel(parent, c: str, pos, length: float, cfg: RobotConfig, spec
     )
 
 
-def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: float = 0.0) -> None:
-    """Add the rover with its chassis centre at ``pos`` (world), turned by ``yaw`` and ``pitch`` (rad).
+def add_robot(spec: mujoco.MjSpec, pos, yaw: float, cfg: RobotConfig, pitch: float = 0.0,
+              roll: float = 0.0) -> None:
+    """Add the rover with its chassis centre at ``pos`` (world), turned by ``yaw``, ``pitch`` and
+    ``roll`` (rad; z, then the body's y, then its x).
 
     Sets ``spec.compiler.degree = False``: every joint range here is in radians.
     """
     spec.compiler.degree = False
     cy, sy, cp, sp = math.cos(yaw / 2), math.sin(yaw / 2), math.cos(pitch / 2), math.sin(pitch / 2)
     quat = [cy * cp, -sy * sp, cy * sp, sy * cp]  # yaw about z, then pitch about the body y axis
+    if roll:
+        q = np.empty(4)
+        mujoco.mju_mulQuat(q, np.array(quat), np.array([math.cos(roll / 2), math.sin(roll / 2), 0.0, 0.0]))
+        quat = q.tolist()
     ch = spec.worldbody.add_body(name=Names.CHASSIS, pos=list(pos), quat=quat)
     ch.add_freejoint(name=Names.ROOT)
     hx, hy, hz = cfg.chassis_size

@@ -176,7 +176,7 @@ class SRWMRTask(TaskBase):
         lay, r = self.layout, self.cfg.robot
         spec.modelname = f"srwmr_{self.instance}"
         prof = lay.profile
-        self.flat = all(abs(z - prof[0][1]) < 1e-12 for _, z in prof)
+        self.flat = all(abs(z - prof[0][1]) < 1e-12 for _, z in prof) and lay.cross_deg == 0.0
         if self.flat:
             spec.worldbody.add_geom(
                 name="ground",
@@ -188,11 +188,15 @@ class SRWMRTask(TaskBase):
                 material=ground_material(spec),
             )
         else:
-            # a ramp or a pit: one heightfield (20 mm along x) for the soil and the rigid links
+            # a ramp, a pit or a cross slope: one heightfield (20 mm along x, 0.5 m along y: both
+            # linear between the vertices) for the soil and the rigid links
             x = np.arange(-4.0, 9.0 + 1e-9, 0.02)
             y = np.linspace(-2.5, 2.5, 11)
             z = np.interp(x, [p[0] for p in prof], [p[1] for p in prof])
-            g = add_heightfield(spec, np.repeat(z[:, None], len(y), axis=1), x, y, name="ground", friction=0.8)
+            h = np.repeat(z[:, None], len(y), axis=1)
+            if lay.cross_deg:
+                h = h + math.tan(math.radians(lay.cross_deg)) * y[None, :]
+            g = add_heightfield(spec, h, x, y, name="ground", friction=0.8)
             g.contype, g.conaffinity = 0, LINK_BIT
             g.material = ground_material(spec)
         for i, (cx, cy, hx, hy, hz) in enumerate(lay.boxes):
@@ -219,7 +223,12 @@ class SRWMRTask(TaskBase):
         z = lay.z0 + hz + 0.002
         if self.rut > 0.0:
             z -= self.rut
-        add_robot(spec, (x0, y0, z), yaw, r)
+        cross = math.radians(lay.cross_deg)
+        if cross:
+            # on a cross slope the rover stands on the slope's plane: rolled by its angle, the
+            # chassis centre the same distance from the plane as from flat ground
+            z = lay.z0 + math.tan(cross) * y0 + (z - lay.z0) / math.cos(cross)
+        add_robot(spec, (x0, y0, z), yaw, r, roll=cross)
 
     def bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> Observation:
         self.model, self.data = model, data
@@ -332,6 +341,7 @@ class SRWMRTask(TaskBase):
             "K": self.soil.K,
             "goal_x": self.layout.goal_x,
             "slope_deg": self.layout.slope_deg,
+            "cross_deg": self.layout.cross_deg,
             "note": self.layout.note,
             "timestep": self.physics.timestep,
         }

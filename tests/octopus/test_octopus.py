@@ -259,6 +259,22 @@ def test_the_mechanism_metrics_are_read_off_the_stored_series():
     assert m["margin_sensed_min_m"] > 0.0
 
 
+def test_a_climb_phase_share_is_the_mean_over_its_own_run_of_rows():
+    """``crawler_load_share_phase_min``: each run of consecutive climb rows in one mode is a phase,
+    its share the mean of its finite rows; the least over the phases (a single low row does not
+    decide it, a low phase does)."""
+    from terrabench.systems.octopus.task import _least_run_mean
+
+    nan = float("nan")
+    mode = np.array([0, 1, 1, 1, 2, 2, 0, 1, 1])
+    rows = np.isin(mode, (1, 2))
+    share = np.array([0.0, 0.9, 0.0, 0.9, 1.0, nan, 0.0, 0.5, 0.6])
+    assert _least_run_mean(mode, rows, share) == pytest.approx(0.55)   # phases 0.6, 1.0, 0.55
+    share[7:] = nan
+    assert _least_run_mean(mode, rows, share) == pytest.approx(0.6)    # a phase without a finite row
+    assert np.isnan(_least_run_mean(mode, np.zeros(9, bool), share))
+
+
 def _walking_clm():
     ctl = clm.CLMController(CLMConfig(), RobotConfig())
     ctl.machine.go(0.0, clm.WALK, "test")

@@ -140,6 +140,7 @@ def _lines(g, order) -> list[dict[str, Any]]:
 MECHANISM = (
     ("max_pitch_rad", "max pitch rad", "~0.6 (Fig. 9)"),
     ("crawler_load_share_min", "crawlers' least load share (climb)", "> 0.5"),
+    ("crawler_load_share_phase_min", "crawlers' least mean share over a climb phase", "> 0.5"),
     ("tip_slip_max_m", "tip slip max m (support phase)", "< 0.02"),
     ("tip_slip_walk_max_m", "tip slip max m (support phase, walk)", "< 0.02"),
     ("tip_slip_climb_max_m", "tip slip max m (support phase, climb)", "- (paper: not kept, Fig. 9e)"),

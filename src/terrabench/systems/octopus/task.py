@@ -298,6 +298,26 @@ def layout(instance: str, cfg: OctopusConfig, seed: int) -> Layout:
     raise ValueError(f"unknown octopus instance {instance!r}")
 
 
+def _least_run_mean(mode: np.ndarray, rows: np.ndarray, values: np.ndarray) -> float:
+    """The least mean of the finite ``values`` over the runs of consecutive ``rows`` (bool) with one
+    ``mode``; NaN without such a run."""
+    best = math.inf
+    k, n = 0, len(mode)
+    while k < n:
+        if not rows[k]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < n and rows[j + 1] and mode[j + 1] == mode[k]:
+            j += 1
+        v = values[k:j + 1]
+        v = v[np.isfinite(v)]
+        if len(v):
+            best = min(best, float(np.mean(v)))
+        k = j + 1
+    return best if best < math.inf else math.nan
+
+
 class OctopusTask(TaskBase):
     """The robot driven by one controller on one instance's terrain."""
 
@@ -847,7 +867,10 @@ class OctopusTask(TaskBase):
         """The climb-mechanism figures (issue 28) on the stored rows after the first second:
         ``max_pitch_rad`` (largest |pitch|), ``crawler_load_share_min`` (the crawlers' least share
         of the normal load over the climb rows: CLM climb/release, CCM press/push/flatten),
-        ``tip_slip_max_m`` (largest tip drift within one support phase), ``tip_slip_walk_max_m`` and
+        ``crawler_load_share_phase_min`` (the least, over the climb phases, of the crawlers' mean
+        share through the phase: a phase is a run of rows in one climb mode, CLM's climb and its
+        release, CCM's press, push and flatten), ``tip_slip_max_m`` (largest tip drift within one
+        support phase), ``tip_slip_walk_max_m`` and
         ``tip_slip_climb_max_m`` (the same within one support phase and controller mode: CLM's walk,
         its climb and release; NaN where there is none), ``tracks_stopped_share``
         (share of CLM walking rows with the crawlers commanded < 1 mm/s; NaN for CCM, which has
@@ -880,6 +903,7 @@ class OctopusTask(TaskBase):
         return {
             "max_pitch_rad": fin(np.abs(pitch), np.max),
             "crawler_load_share_min": float(share[climb].min()) if climb.any() else nan,
+            "crawler_load_share_phase_min": _least_run_mean(mode, in_climb, share),
             "tip_slip_max_m": fin(slip, np.max),
             "tip_slip_walk_max_m": fin(slip_mode[walk], np.max),
             "tip_slip_climb_max_m": fin(slip_mode[in_climb], np.max),

@@ -162,6 +162,33 @@ def test_page_clip_cuts_the_episode_and_shows_a_video(tmp_path, monkeypatch):
     assert "Clip skipped: no headless OpenGL" in page.finish().read_text()
 
 
+def test_a_clip_whose_replay_stops_before_its_window_is_not_kept_silently(tmp_path, monkeypatch):
+    """A replay that ends before the clip's start (a halt that came sooner than in the stored
+    trial) wrote an empty .mp4 that the page showed as a clip; now the page says why instead, and
+    a replay that ends inside the window keeps its frames with a note."""
+    import terrabench.report.render as render_mod
+    from terrabench.report.page import Page
+
+    def replay(frames):
+        def fake(system, spec, path, **kw):
+            path.write_bytes(b"")
+            return {"path": path, "frames": frames, "expected": 4, "seconds": 0.1, "fps_rendered": 1.0,
+                    "status": "stuck", "sim_time": 0.3}
+        return fake
+
+    monkeypatch.setattr(render_mod, "render_trial", replay(0))
+    page = Page(tmp_path, "clip")
+    assert page.clip("c.mp4", "a clip", SYSTEM, spec(), 0.4, every=1, start=0.6) is False
+    assert not (tmp_path / "c.mp4").exists()
+    text = page.finish().read_text()
+    assert "Clip c.mp4 skipped" in text and "ended (stuck) at 0.30 s, before its start at 0.60 s" in text
+    assert "<video" not in text
+    monkeypatch.setattr(render_mod, "render_trial", replay(2))
+    page = Page(tmp_path / "short", "clip")
+    assert page.clip("c.mp4", "a clip", SYSTEM, spec(), 0.4, every=1, start=0.6)
+    assert "2 of 4 frames" in page.finish().read_text()
+
+
 def test_a_clip_from_a_start_time_keeps_only_its_window(tmp_path):
     # 1 s of episode at 10 frames/s from 0.6 s: the frames at 0.6, 0.7 ... 0.9 s; a start past the
     # end is refused before any frame

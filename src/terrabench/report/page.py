@@ -183,18 +183,28 @@ class Page:
         ``caption`` (:func:`terrabench.report.render.render_trial`; ``kwargs``: width, height,
         overlay, track). The episode is cut at ``start + seconds`` through the system's ``timeout_key``.
         Without headless GL, or for a stored config this version cannot run, one note instead
-        (as :meth:`snapshots`); returns whether it rendered."""
+        (as :meth:`snapshots`); a replay that stops before the clip's start writes no clip and says
+        so, one that stops inside it keeps the frames it has and says that; returns whether it
+        rendered."""
         from terrabench.report.render import GLUnavailable, render_trial
 
         try:
-            render_trial(system, cut_at(system, spec, start + seconds), self.out_dir / name, fps=fps, every=every,
-                         start=start, **kwargs)
+            out = render_trial(system, cut_at(system, spec, start + seconds), self.out_dir / name, fps=fps,
+                               every=every, start=start, **kwargs)
         except GLUnavailable as exc:
             self.note(f"Clip skipped: {exc}. Set MUJOCO_GL=egl (Mesa) or MUJOCO_GL=osmesa (libosmesa6).")
             return False
         except ValueError as exc:
             self.note(f"Clip skipped: the stored trial cannot be re-run by this version ({exc}).")
             return False
+        if out["frames"] < out["expected"]:
+            why = (f"the replay of {spec.method} on {spec.instance} seed {spec.seed} ended ({out['status']}) at "
+                   f"{out['sim_time']:.2f} s")
+            if not out["frames"]:
+                (self.out_dir / name).unlink(missing_ok=True)
+                self.note(f"Clip {name} skipped: {why}, before its start at {start:.2f} s.")
+                return False
+            self.note(f"Clip {name} is short: {why}, {out['frames']} of {out['expected']} frames.")
         self.written.add(name)
         self.raw(f"<figure><video src='{name}' controls muted loop preload='metadata' style='max-width:100%'>"
                  f"</video><figcaption>{caption} (<a href='{name}'>{name}</a>)</figcaption></figure>")

@@ -61,8 +61,9 @@ class Layout:
     obstacles on it, the soil name, the plan, the success line ``goal_x`` (chassis x, m; None:
     the plan's end), the start height offset ``z0`` (m) of the ground, the slope ``slope_deg``
     (deg, along x, as reported) and the cross slope ``cross_deg`` (deg: the ground rises toward
-    +y, the robot's left at the start, by tan(cross_deg) per m, added to the profile). The time
-    limit is the registration's (:class:`Entry`)."""
+    +y, the robot's left at the start, by tan(cross_deg) per m, added to the profile within the
+    heightfield's |y| <= 2.5 m; ``boxes`` stand on the profile alone). The time limit is the
+    registration's (:class:`Entry`)."""
 
     profile: tuple
     boxes: tuple

@@ -15,23 +15,29 @@ SIGNS = np.array([[float(CORNER[k][0]), float(CORNER[k][1])] for k in ARMS])
 
 
 @numba.njit(cache=True)
-def tips(q, signs, c):  # pragma: no cover
-    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0), compiled:
-    tip centres in {R} (m) of the arms with joints ``q`` (n, 3) (swing, boom, elbow) at corner
-    signs ``signs`` (n, 2) (sx, sy), as a new (n, 3) array; ``c`` = (mx, my, z0, l1, l2)
-    (:func:`fk_constants`); a caller holding a (4, 3) float array (the controller's encoders) calls it
-    with :data:`SIGNS` directly, :func:`fk_all` otherwise. With r = l1 cos(boom) + l2 cos(boom + elbow):
+def tips_into(q, signs, c, out):  # pragma: no cover
+    """The one forward-kinematics formula (paper eq. 13 in our convention, d3 = 0), compiled: tip
+    centres in {R} (m) of the arms with joints ``q`` (n, 3) (swing, boom, elbow) at corner signs
+    ``signs`` (n, 2) (sx, sy), written into ``out`` (n, 3); ``c`` = (mx, my, z0, l1, l2)
+    (:func:`fk_constants`). With r = l1 cos(boom) + l2 cos(boom + elbow):
     (sx mx + r sin(swing), sy (my + r cos(swing)), z0 - l1 sin(boom) - l2 sin(boom + elbow)),
     z0 = mz + 0.04 (the boom axis 0.04 m above the mount). libm's sin and cos, as Python's math
-    calls them (the same bits, checked in tests/octopus/test_octopus_perf.py)."""
+    calls them (the same bits, checked in tests/octopus/test_octopus_perf.py). The controller
+    fills its own (4, 3) buffer with it every tick (no array made and handed back to Python)."""
     mx, my, z0, l1, l2 = c[0], c[1], c[2], c[3], c[4]
-    out = np.empty((q.shape[0], 3))
     for a in range(q.shape[0]):
         sw, bm, el = q[a, 0], q[a, 1], q[a, 2]
         reach = l1 * math.cos(bm) + l2 * math.cos(bm + el)
         out[a, 0] = signs[a, 0] * mx + reach * math.sin(sw)
         out[a, 1] = signs[a, 1] * (my + reach * math.cos(sw))
         out[a, 2] = z0 - l1 * math.sin(bm) - l2 * math.sin(bm + el)
+
+
+@numba.njit(cache=True)
+def tips(q, signs, c):  # pragma: no cover
+    """:func:`tips_into` as a new (n, 3) array (:func:`fk`, :func:`fk_all`)."""
+    out = np.empty((q.shape[0], 3))
+    tips_into(q, signs, c, out)
     return out
 
 
@@ -114,7 +120,18 @@ def rotation_rc(roll: float, pitch: float) -> np.ndarray:
 
     ``pitch`` is nose-up positive (a rotation of -pitch about y).
     """
+    out = np.empty((3, 3))
+    rotation_rc_into(roll, pitch, out)
+    return out
+
+
+@numba.njit(cache=True)
+def rotation_rc_into(roll, pitch, out):  # pragma: no cover
+    """:func:`rotation_rc` written into ``out`` (3, 3), compiled (libm's sin and cos, as Python's
+    math: the same bits; the controller's per-tick level frame fills one buffer with it)."""
     cr, sr = math.cos(roll), math.sin(roll)
     cp, sp = math.cos(-pitch), math.sin(-pitch)
     # Ry(-pitch) @ Rx(roll), multiplied out
-    return np.array([[cp, sp * sr, sp * cr], [0.0, cr, -sr], [-sp, cp * sr, cp * cr]])
+    out[0, 0], out[0, 1], out[0, 2] = cp, sp * sr, sp * cr
+    out[1, 0], out[1, 1], out[1, 2] = 0.0, cr, -sr
+    out[2, 0], out[2, 1], out[2, 2] = -sp, cp * sr, cp * cr

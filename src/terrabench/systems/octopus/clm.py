@@ -123,6 +123,83 @@ def _pace_bound(foot, on, rem, period, rmin, mount, rmax, two):  # pragma: no co
     return v
 
 
+@numba.njit(cache=True)
+def _climb_supports(tgt, lifted, tip_r, over, climb_hold, piv_x, piv_z, cs, sn, lx, lz, lx_rear, lift_front,
+                    lift_rear, roll_k, lift_dz, press, front_support, ikc, rmin, mount, rmax,
+                    arm):  # pragma: no cover
+    """The nose climb's arm moving (:meth:`CLMController._climb_nose`, eqs. 22-27 for every support
+    not ``lifted``), compiled: each tip target (``tgt`` (4, 3) in {R}, updated in place) turned by
+    the tick's pitch change (cos ``cs``, sin ``sn``) about the rear ground contact (``piv_x``,
+    ``piv_z``) and moved by the crawler travel (``lx``, ``lz``; ``lx_rear`` for the rear tips' x),
+    its height bounded by the sensed tip (``tip_r`` (4, 3), z) less ``press``, and the arm's joints
+    (``arm`` rows) put the tip there (:func:`~.arm_kinematics.ik_f`). The tick's decisions come in
+    as flags: ``lift_front`` (the front booms lift), ``lift_rear`` (the rear booms lift the rear,
+    once ``over``), ``roll_k`` = roll_level x IMU roll (the roll levelling's factor). Returns the
+    bits of the arms whose foothold has left its range: those lift clear (the caller, in arm order:
+    the event), their joints not set here. The arithmetic and Python's min are the Python loop's
+    it replaced, bit for bit (tests/octopus/test_octopus_climb_kernel.py)."""
+    out = 0
+    for i in range(4):
+        if lifted[i]:
+            continue
+        tx, ty, tz = tgt[i, 0], tgt[i, 1], tgt[i, 2]
+        tip_z = tip_r[i, 2]
+        front = i < 2
+        if front and not over:
+            # a lifting boom: its target moves down in {R} (a position lift, self-limiting). The
+            # pitch-change prediction moves x only: in z it closes a loop through the free roller
+            # (the body turns about a point ahead of the assumed pivot as the tip rolls: measured,
+            # pitch 0.2 -> 0.9 rad in 0.5 s); without it in z the push eases as the nose rises.
+            # No travel: the body is against the riser (travel counts from H >= H_EST)
+            if climb_hold:
+                tx = piv_x + (tx - piv_x) * cs + (tz - piv_z) * sn
+            if lift_front:
+                tz -= lift_dz
+            # a tip the rising nose has lifted off the top comes down onto it again (a loaded
+            # tip sits above its target by more than the press: unchanged)
+            low = tip_z - press
+            tz = low if low < tz else tz  # Python's min(tz, low)
+            tgt[i, 0], tgt[i, 2] = tx, tz
+            arm[i, 0], arm[i, 1], arm[i, 2] = ak.ik_f(tx, ty, tz, ikc[i])
+            continue
+        # a pressing (or pushing) arm: from its sensed tip (x) and its target (z), the tick's
+        # predicted motion; x does not accumulate (odometry counts while the crawlers are blocked)
+        x0 = tx
+        dx, dz = tx - piv_x, tz - piv_z
+        tx, tz = piv_x + dx * cs + dz * sn - lx, piv_z - dx * sn + dz * cs - lz
+        if not front:
+            # x: the rear tips keep their footholds (a pitch-change prediction about the rear
+            # contact moved them more: measured, tip slip 0.37 -> 0.45 m); the body advances only
+            # once lifted over the edge (S's rule: odometry from H >= H_EST), before that its
+            # crawlers push on the riser
+            tx = x0 - lx_rear
+        if not front and over:
+            # the front on the top, on its crawlers: the rear booms lift the rear (eq. 28) until H
+            # (the rear tips, on the lower ground) exceeds H_EST by lift_margin, the nose not below
+            # -climb_pitch; the front crawlers carry the front, the rear flippers push
+            if lift_rear:
+                tz -= lift_dz
+            # roll levelling (IMU): the rear tip on the raised side eases, the other presses on
+            tz += roll_k * ty
+        else:
+            # press: the target at most climb_press below the sensed tip (a lifting arm unloads
+            # at lift_dz a tick)
+            eased, low = tz + lift_dz, tip_z - press
+            tz = low if low < eased else eased  # Python's min(eased, low)
+        tgt[i, 0], tgt[i, 2] = tx, tz
+        # (every arm here tests "behind": the lifting front arms took the branch above)
+        beyond = _out_of_range(tx, ty, rmin[i], mount[i, 0], mount[i, 1], rmax, True)
+        # front_support off: a front arm over the top that has unloaded (its target back at the
+        # press) lifts clear and the front crawlers carry the front alone; on (the default), it
+        # stays a support on the top at the bounded press until the release (Fig. 9f-h)
+        beyond = beyond or (front and not front_support and tz >= tip_z - press - 1e-6)
+        if beyond and (not front or over):
+            out |= 1 << i
+            continue
+        arm[i, 0], arm[i, 1], arm[i, 2] = ak.ik_f(tx, ty, tz, ikc[i])
+    return out
+
+
 # ---------------------------------------------------------------------------- controller
 WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
 #: names of the controller states (the logged ``mode`` codes) in events and timelines
@@ -147,7 +224,8 @@ class CLMController(MachineController):
         self.contact = [False] * 4  # supporting tips (Python bools: read every tick, item by item)
         self._tip_c = np.zeros((4, 3))  # the tips in {C} this tick (tip_c), None until first used
         self._att = (0.0, 0.0)  # this tick's IMU (roll, pitch) (rad)
-        self.tip_r = np.zeros((4, 3))
+        self._rot = np.zeros((3, 3))  # {R} -> {C} of this tick's IMU (tip_c's buffer)
+        self.tip_r = np.zeros((4, 3))  # the tips in {R} this tick: the FK fills this buffer each tick
         self.foot = np.zeros((4, 3))  # footholds of the supporting arms in {R} (m)
         # each arm's range: the least x of its foothold and its mount (sx mx, sy my) (_hold)
         mx, my, _ = robot.arm_mount
@@ -201,7 +279,10 @@ class CLMController(MachineController):
         IMU (eqs. 10-12), computed on first use in a tick (the walk reads them only with all four
         tips down, the climb every tick)."""
         if self._tip_c is None:
-            self._tip_c = self.tip_r @ ak.rotation_rc(*self._att).T
+            # the rotation into one buffer (ak.rotation_rc's values); the product stays numpy's
+            # matmul (BLAS: a hand-written 3-term dot rounds differently on some CPUs' kernels)
+            ak.rotation_rc_into(self._att[0], self._att[1], self._rot)
+            self._tip_c = self.tip_r @ self._rot.T
         return self._tip_c
 
     def _arm_event(self, t: float, k: str, src: str, dst: str, reason: str) -> None:
@@ -234,11 +315,18 @@ class CLMController(MachineController):
         """The arm command kept within ``max_lead`` of the encoders."""
         _within(self.cmd.arm, obs.q_arm, self.cfg.max_lead)
 
+    def _in_transfer(self) -> str | None:
+        """The arm in transfer (the first: the dict is in ARMS order), or None."""
+        for k, ph in self.phase.items():
+            if ph:
+                return k
+        return None
+
     def _transfer(self, obs) -> int:
         """Advance the arm in transfer (if any); returns its index or -1."""
         cfg = self.cfg
-        moving = [k for k, ph in self.phase.items() if ph]  # (the dict is in ARMS order)
-        if not moving:
+        k = self._in_transfer()
+        if k is None:
             if obs.t < self.pause_until or any(self.landing):
                 return -1
             why = "gait turn"
@@ -261,8 +349,6 @@ class CLMController(MachineController):
             self.stretched_on[ARM_INDEX[k]], self.in_pit[ARM_INDEX[k]] = "", False
             self.transfer_t0 = obs.t
             self._arm_event(obs.t, k, SUPPORT, TRANSFER, self.queue_reason.pop(k, why))
-            moving = [k]
-        k = moving[0]
         i = ARM_INDEX[k]
         q = obs.q_arm[i]
         tgt = self._tgt_q[k]
@@ -294,7 +380,7 @@ class CLMController(MachineController):
             # tip lands where it was sent; contact = the elbow torque signal, or the tip stops
             # following its descent (encoders)
             self.t3[i] += self.dt
-            tx, ty, tz = self.targets[k]
+            tx, ty, tz = self.targets[k].tolist()
             g = self.glide[i]
             if g is not None:
                 # first a straight line from where the swing ended to the top of the descent, at
@@ -356,7 +442,7 @@ class CLMController(MachineController):
             self.t3[i] = 0.0
             # the descent starts at the tip's height or lower, where the arm reaches the target
             # without its boom against its upper stop (a knee-up whip that would look like a stop)
-            tx, ty, tz = self.targets[k]
+            tx, ty, tz = self.targets[k].tolist()
             z, lo = float(self.tip_r[i, 2]), self.robot.boom_range[0] + 0.1
             while z > tz and ak.ik_f(tx, ty, z, self._ikc[i])[1] < lo:
                 z -= 0.02
@@ -512,22 +598,25 @@ class CLMController(MachineController):
         if dx > dx_max:  # the front feelers read less advance than the odometry (flipper_feel)
             dx = max(dx_max, 0.0)
         moving, phase, contact, caster = cfg.arm_moving, self.phase, self.contact, self.caster
-        hold = self._hold
         if not (any(self.landing) or any(self.in_pit)):
-            # every support settled (most ticks): the four in one compiled pass
+            # every support settled (most ticks): the four in one compiled pass (the kernel called
+            # directly: self._hold's arguments)
             on = shift = 0
             for i, k in enumerate(ARMS):
                 if contact[i] and not phase[k]:
                     on |= 1 << i
                     if moving and not caster[i]:
                         shift |= 1 << i
-            bits = hold(on, shift, 0, dx)
+            bits = _hold(self.foot, on, shift, 0, dx, self.tip_r, cfg.press, self._ikc, self._rmin, self._mount,
+                         cfg.reach_max, self.cmd.arm)
             out = False
-            for i, k in enumerate(ARMS):
-                if bits >> i & 1 and not caster[i]:
-                    out = self._beyond(obs, i, k) or out
+            if bits:  # a foothold beyond its range (about one tick in ten)
+                for i, k in enumerate(ARMS):
+                    if bits >> i & 1 and not caster[i]:
+                        out = self._beyond(obs, i, k) or out
             return out
         # an arm landing or hanging in a pit: arm by arm, its events in order with the others'
+        hold = self._hold
         out = False
         for i, k in enumerate(ARMS):
             if self.in_pit[i] and not phase[k]:
@@ -680,9 +769,9 @@ class CLMController(MachineController):
         # the front is over the top once the front pulley's bottom is above it ({C}: encoders + IMU)
         # the top's height in {C}: the rear ground (the lower rear tip still down there) + H_EST,
         # which holds when the front tips are off the top
-        rear = [self.tip_c[j, 2] for j in (2, 3) if not self.lifted[j]]
-        top = (min(rear) - r.tip_r + self.h_est if rear and not self.up
-               else self._front_mid_z() - r.tip_r)
+        z = self.tip_c[:, 2].tolist()
+        rear = [] if self.up else [z[j] for j in (2, 3) if not self.lifted[j]]
+        top = min(rear) - r.tip_r + self.h_est if rear else self._front_mid_z() - r.tip_r
         pulley_bottom = r.pulley_x * math.sin(obs.pitch) - r.pulley_r
         if pulley_bottom > top + cfg.lift_margin and not self.over:
             self.over = True
@@ -696,70 +785,23 @@ class CLMController(MachineController):
         a = self.pitch0 - obs.pitch
         lx, lz = v * self.dt * math.cos(a), v * self.dt * math.sin(a)
         px, pz = piv
-        for i, k in enumerate(ARMS):
-            if self.lifted[i]:
-                continue
-            t = self.lift_tgt[i]
-            tx, ty, tz = t.tolist()  # Python floats (the same arithmetic), written back below
-            tip_z = self.tip_z[i]
-            front = i < 2
-            if front and not self.over:
-                # a lifting boom: its target moves down in {R} (a position lift, self-limiting). The
-                # pitch-change prediction moves x only: in z it closes a loop through the free roller
-                # (the body turns about a point ahead of the assumed pivot as the tip rolls: measured,
-                # pitch 0.2 -> 0.9 rad in 0.5 s); without it in z the push eases as the nose rises.
-                # No travel: the body is against the riser (travel counts from H >= H_EST)
-                if cfg.climb_hold:
-                    tx = px + (tx - px) * cs + (tz - pz) * sn
-                if obs.pitch < cfg.climb_pitch and h < cfg.lift_margin:
-                    tz -= cfg.lift_dz
-                # a tip the rising nose has lifted off the top comes down onto it again (a loaded
-                # tip sits above its target by more than the press: unchanged)
-                tz = min(tz, tip_z - cfg.climb_press)
-                t[:] = tx, ty, tz
-                c.arm[i] = ak.ik_f(tx, ty, tz, self._ikc[i])
-                continue
-            # a pressing (or pushing) arm: from its sensed tip (x) and its target (z), the tick's
-            # predicted motion; x does not accumulate (odometry counts while the crawlers are blocked)
-            x0 = tx
-            dx, dz = tx - px, tz - pz
-            tx, tz = px + dx * cs + dz * sn - lx, pz - dx * sn + dz * cs - lz
-            if not front:
-                # x: the rear tips keep their footholds (a pitch-change prediction about the rear
-                # contact moved them more: measured, tip slip 0.37 -> 0.45 m); the body advances only
-                # once lifted over the edge (S's rule: odometry from H >= H_EST), before that its
-                # crawlers push on the riser
-                tx = x0 - (lx if up else 0.0)
-            if not front and self.over:
-                # the front on the top, on its crawlers: the rear booms lift the rear (eq. 28) until H
-                # (the rear tips, on the lower ground) exceeds H_EST by lift_margin, the nose not below
-                # -climb_pitch; the front crawlers carry the front, the rear flippers push
-                if h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0:
-                    tz -= cfg.lift_dz
-                # roll levelling (IMU): the rear tip on the raised side eases, the other presses on
-                tz += cfg.roll_level * obs.roll * ty
-            else:
-                # press: the target at most climb_press below the sensed tip (a lifting arm unloads
-                # at lift_dz a tick)
-                tz = min(tz + cfg.lift_dz, tip_z - cfg.climb_press)
-            t[:] = tx, ty, tz
-            (mx, my), behind = self._mount[i].tolist(), not (front and not self.over)
-            beyond = _out_of_range(tx, ty, self._rmin[i], mx, my, cfg.reach_max, behind)
-            # front_support off: a front arm over the top that has unloaded (its target back at the
-            # press) lifts clear and the front crawlers carry the front alone; on (the default), it
-            # stays a support on the top at the bounded press until the release (Fig. 9f-h)
-            beyond = beyond or (front and not cfg.front_support and tz >= tip_z - cfg.climb_press - 1e-6)
-            if beyond and (not front or self.over):
-                # the lift-clear pose is set once; _lead then holds the command within max_lead of
-                # the encoders and the lifted arm is not revisited, so its boom stays where the first
-                # clamp left it: as the body moves the arm presses instead (terrace2-front seed 1: LF
-                # at 275 of 300 N m 3 s after its lift, the front on its tip, the crawlers in the air
-                # for 2.4 s). Re-issuing the pose every tick keeps the crawlers loaded but the nose
-                # then rises to guard_pitch and the terraces fail 0/5 (docs/octopus.md, "Load share")
-                self.lifted[i] = True
-                self._lift_clear(obs, i, k, "climb: foothold out of range, lifted clear")
-                continue
-            c.arm[i] = ak.ik_f(tx, ty, tz, self._ikc[i])
+        lift_front = obs.pitch < cfg.climb_pitch and h < cfg.lift_margin
+        lift_rear = h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0
+        out = _climb_supports(self.lift_tgt, self.lifted, self.tip_r, self.over, cfg.climb_hold, px, pz, cs, sn,
+                              lx, lz, lx if up else 0.0, lift_front, lift_rear, cfg.roll_level * obs.roll,
+                              cfg.lift_dz, cfg.climb_press, cfg.front_support, self._ikc, self._rmin, self._mount,
+                              cfg.reach_max, c.arm)
+        if out:  # feet out of range (rare): those arms lift clear, in arm order (their events)
+            for i, k in enumerate(ARMS):
+                if out >> i & 1:
+                    # the lift-clear pose is set once; _lead then holds the command within max_lead of
+                    # the encoders and the lifted arm is not revisited, so its boom stays where the first
+                    # clamp left it: as the body moves the arm presses instead (terrace2-front seed 1: LF
+                    # at 275 of 300 N m 3 s after its lift, the front on its tip, the crawlers in the air
+                    # for 2.4 s). Re-issuing the pose every tick keeps the crawlers loaded but the nose
+                    # then rises to guard_pitch and the terraces fail 0/5 (docs/octopus.md, "Load share")
+                    self.lifted[i] = True
+                    self._lift_clear(obs, i, k, "climb: foothold out of range, lifted clear")
         # flippers, eq. 29 (A' - dF) with a torque-limited lead
         # the front flipper tip clears the edge when, a pulley radius ahead of its pivot (the pulley
         # against the riser), its tip pulley's bottom is above the top
@@ -878,7 +920,7 @@ class CLMController(MachineController):
         at the guard (no arm is left to bring the nose down) or stalled (past its release distance,
         the pitch held within 0.02 rad for ``stall_time``: the crawlers slip); called every climb tick."""
         cfg = self.cfg
-        alone = bool(self.lifted.all())
+        alone = all(self.lifted.tolist())  # (np.all's value; Python bools are cheaper a tick)
         if abs(obs.pitch - self.still_pitch) > 0.02 or not alone or self.s <= self.s_release:
             self.still_pitch, self.still_t = obs.pitch, 0.0
         self.still_t += self.dt
@@ -905,12 +947,14 @@ class CLMController(MachineController):
         cfg, c = self.cfg, self.cmd
         if not self.started:
             self._start(obs)
-        # one forward-kinematics pass a tick: the tips in {R} (encoders) and in {C} (+ IMU)
-        self.tip_r = ak.tips(obs.q_arm, ak.SIGNS, self._fkc)
-        self._tip_c, self._att = None, (obs.roll, obs.pitch)  # {C}: on first use this tick (tip_c)
+        # one forward-kinematics pass a tick: the tips in {R} (encoders), into tip_r's buffer (nothing
+        # keeps a tick's tips past it but copies), and in {C} (+ IMU) on first use this tick (tip_c)
+        ak.tips_into(obs.q_arm, ak.SIGNS, self._fkc, self.tip_r)
+        self._tip_c, self._att = None, (obs.roll, obs.pitch)
         self.prev_tip_z, self.tip_z = self.tip_z, self.tip_r[:, 2].tolist()
         self.heading += obs.yaw_rate * self.dt
-        if self.state == INIT:
+        state = self.machine.state  # (the branch's; c.mode reads self.state after a transition)
+        if state == INIT:
             c.track[:] = 0.0
             self._support(obs, 0.0)
             i = self._transfer(obs)
@@ -919,7 +963,7 @@ class CLMController(MachineController):
             c.mode, c.moving_arm = self.state, i
             self._lead(obs)
             return c
-        if self.state == WALK:
+        if state == WALK:
             # the crawlers wait while a foothold is out of its arm's range (its transfer is due)
             # after a release the arms are re-placed; with the body still pitched (the rear below the
             # edge, the front already at the next riser of a short tread) the crawlers wait for them

@@ -36,8 +36,8 @@ class Observation:
 
     # _flat: the one buffer the array fields view (encoders, then torques), or None (the task's
     # stored row reads it in one go)
-    __slots__ = ("_d", "_s", "_q", "_tau", "_both", "_quat", "_gyro", "_flat", "t", "roll", "pitch", "yaw_rate",
-                 "q_flip", "q_arm", "tau_flip", "tau_elbow")
+    __slots__ = ("_d", "_s", "_q", "_tau", "_both", "_quat", "_gyro", "_head", "_flat", "t", "roll", "pitch",
+                 "yaw_rate", "q_flip", "q_arm", "tau_flip", "tau_elbow")
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
         self._d = data
@@ -53,17 +53,25 @@ class Observation:
         # encoders and torques adjacent (the builder's order): one copy a tick for both
         adjacent = isinstance(self._q, slice) and isinstance(self._tau, slice) and self._q.stop == self._tau.start
         self._both = slice(self._q.start, self._tau.stop) if adjacent else None
+        # the IMU's quaternion and gyro within the first few values (the builder's order): one read
+        head = max(self._quat + 4, self._gyro + 3)
+        self._head = head if head <= 8 else 0
         self.refresh()
 
     def refresh(self) -> "Observation":
         s = self._s
         self.t = float(self._d.time)
-        a = self._quat
-        self.roll, self.pitch = roll_pitch_f(*s[a: a + 4].tolist())
-        g = self._gyro
-        _, wy, wz = s[g: g + 3].tolist()
+        a, g = self._quat, self._gyro
+        if self._head:
+            h = s[:self._head].tolist()
+            roll, pitch = roll_pitch_f(h[a], h[a + 1], h[a + 2], h[a + 3])
+            wy, wz = h[g + 1], h[g + 2]
+        else:
+            roll, pitch = roll_pitch_f(*s[a: a + 4].tolist())
+            _, wy, wz = s[g: g + 3].tolist()
+        self.roll, self.pitch = roll, pitch
         # Z-Y-X Euler rate of the heading from body rates: (wy sin(roll) + wz cos(roll)) / cos(pitch)
-        self.yaw_rate = (wy * math.sin(self.roll) + wz * math.cos(self.roll)) / max(math.cos(self.pitch), 1e-3)
+        self.yaw_rate = (wy * math.sin(roll) + wz * math.cos(roll)) / max(math.cos(pitch), 1e-3)
         # one fresh copy a tick, the fields are views of it
         if self._both is not None:
             b = s[self._both].copy()

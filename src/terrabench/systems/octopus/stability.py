@@ -13,6 +13,64 @@ import numpy as np
 
 from terrabench.sim.pymath import hypot
 
+#: from this many points :func:`_sorted_order` merges instead of inserting
+MERGE_FROM = 16
+
+
+@numba.njit(cache=True)
+def _sorted_order(xs, ys):  # pragma: no cover
+    """The indices of the points (xs, ys) in stable (x, y) order: numpy's lexsort order, what a
+    stable insertion sort gives (the hull's order before this helper; kept for short or NaN-holding
+    inputs). Beyond MERGE_FROM points without NaN, a stable bottom-up merge sort: the ordering is
+    then a strict weak one, whose stable sorted permutation is unique, so the same indices in
+    O(n log n) rather than O(n^2) (tests/octopus/test_octopus_hull_sort.py checks it)."""
+    n = xs.shape[0]
+    order = np.arange(n)
+    finite = n >= MERGE_FROM
+    if finite:
+        for a in range(n):
+            if xs[a] != xs[a] or ys[a] != ys[a]:
+                finite = False
+                break
+    if not finite:
+        for a in range(1, n):  # stable insertion sort by (x, y): numpy's lexsort order
+            j, b = a, order[a]
+            while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = b
+        return order
+    src, dst = order, np.empty(n, order.dtype)
+    width = 1
+    while width < n:
+        lo = 0
+        while lo < n:
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i, j, k = lo, mid, lo
+            while i < mid and j < hi:
+                p, q = src[i], src[j]
+                # the right one first only when strictly before the left one: stable
+                if xs[q] < xs[p] or (xs[q] == xs[p] and ys[q] < ys[p]):
+                    dst[k] = q
+                    j += 1
+                else:
+                    dst[k] = p
+                    i += 1
+                k += 1
+            while i < mid:
+                dst[k] = src[i]
+                i += 1
+                k += 1
+            while j < hi:
+                dst[k] = src[j]
+                j += 1
+                k += 1
+            lo = hi
+        src, dst = dst, src
+        width *= 2
+    return src
+
 
 @numba.njit(cache=True)
 def _hull(xs, ys, out):  # pragma: no cover
@@ -20,13 +78,7 @@ def _hull(xs, ys, out):  # pragma: no cover
     hull into ``out`` (2n, 2) and returns its length (collinear points dropped; fewer than three
     distinct points: those points, sorted)."""
     n = xs.shape[0]
-    order = np.arange(n)
-    for a in range(1, n):  # stable insertion sort by (x, y): numpy's lexsort order
-        j, b = a, order[a]
-        while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
-            order[j] = order[j - 1]
-            j -= 1
-        order[j] = b
+    order = _sorted_order(xs, ys)
     ux, uy = np.empty(n), np.empty(n)
     m = 0
     for a in range(n):  # exact duplicates dropped (sorted, so adjacent)

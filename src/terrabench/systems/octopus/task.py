@@ -20,8 +20,8 @@ from terrabench.systems.base import TaskBase
 from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
 from terrabench.systems.octopus.rules import Command
-from terrabench.systems.octopus.sensing import Observation, roll_pitch
-from terrabench.systems.octopus.stability import Footprint, least_depth, stability_margin
+from terrabench.systems.octopus.sensing import Observation, roll_pitch_f
+from terrabench.systems.octopus.stability import Footprint, _margin_parts, least_depth
 from terrabench.terrain import pieces
 from terrabench.terrain.mjcf import GROUND_BIT
 
@@ -199,6 +199,143 @@ def _abs2(x, y, ax, ay):  # pragma: no cover
     for i in range(x.shape[0]):
         ax[i] = abs(x[i])
         ay[i] = abs(y[i])
+
+
+@numba.njit(cache=True)
+def _power_parts(force, vel, ax, ay, fx, v):  # pragma: no cover
+    """:func:`_abs2` of the actuators' forces and velocities into ``ax``, ``ay``, and returns the
+    crawlers' drive power ``|fx0 v0| + |fx1 v1|`` (W) (:meth:`OctopusTask._track_power`'s formula)."""
+    for i in range(force.shape[0]):
+        ax[i] = abs(force[i])
+        ay[i] = abs(vel[i])
+    return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
+
+
+#: the stored row's columns that change on the sampled rows only (:meth:`OctopusTask.row`): they
+#: wait in the row's template between them (the evaluation figures, ``_sample``, the tip bits,
+#: ``_mech``); :func:`_row_fill` writes the others
+_SAMPLE_COLS = (5, 15, 16, 17, 18)
+_TIPS_COL = 8
+_MECH_COLS = (25, 26, 27, 28, 29, 30)
+assert [COLUMNS[i] for i in _SAMPLE_COLS + (_TIPS_COL,) + _MECH_COLS] == [
+    "margin", "margin_all", "quasi", "track_share", "track_power", "tip_contact", "margin_sensed", "tip_slip",
+    "track_cmd", "tip_slip_mode", "crawlers_in_tips", "margin_crawlers"]
+
+
+@numba.njit(cache=True)
+def _row_fill(tmpl, flat, s, lat, z, roll, pitch, mode, mov):  # pragma: no cover
+    """A fresh stored row: the template's sampled figures (margins, tips, mechanism) and this
+    tick's values (position, attitude, command, flipper means, elbow torques, right arms' joints)
+    from the observation's one buffer ``flat`` (flippers, arms LF, RF, LR, RR, flipper torques,
+    elbow torques): :meth:`OctopusTask.row`'s tuple, value for value."""
+    out = tmpl.copy()
+    out[0], out[1], out[2], out[3], out[4] = s, lat, z, roll, pitch
+    out[6], out[7] = mode, mov
+    out[9] = 0.5 * (flat[0] + flat[1])
+    out[10] = 0.5 * (flat[2] + flat[3])
+    for i in range(4):
+        out[11 + i] = flat[20 + i]
+    for i in range(3):
+        out[19 + i] = flat[7 + i]
+        out[22 + i] = flat[13 + i]
+    return out
+
+
+@numba.njit(cache=True)
+def _rearmost(loaded, geoms, rear_end, hx, hy):  # pragma: no cover
+    """The rearmost of the (m >= 1, 2) ``loaded`` points along the heading (hx, hy) and whether its
+    robot geom (``geoms``) is one of the ``rear_end``: (``min(along)``, ``rear_end[geoms[k]]``)
+    with ``along`` the Python list ``[x * hx + y * hy ...]`` and ``k = along.index(min(along))``
+    (:meth:`OctopusTask._tip_back`'s formula: Python's min keeps the first of equals and never
+    leaves a NaN it starts from; index finds that one)."""
+    rs = loaded[0, 0] * hx + loaded[0, 1] * hy
+    k = 0
+    for a in range(1, loaded.shape[0]):
+        v = loaded[a, 0] * hx + loaded[a, 1] * hy
+        if v < rs:
+            rs, k = v, a
+    return rs, rear_end[geoms[k]]
+
+
+@numba.njit(cache=True)
+def _signed_margin(pts, cx, cy):  # pragma: no cover
+    """:func:`~terrabench.systems.octopus.stability.stability_margin` of (n, 2) float ``pts``."""
+    m, inside, d = _margin_parts(pts, cx, cy)
+    if m == 0:
+        return math.nan
+    return d if inside else -d
+
+
+@numba.njit(cache=True)
+def _mech_geometry(gx, sensed, tip_geoms, support, foot, cx, cy, tp):  # pragma: no cover
+    """The geometry of :meth:`OctopusTask._mechanism` in one compiled call, from the geoms' world
+    positions ``gx``: (the sensed margin of the ``sensed`` geoms' x, y about (cx, cy), the least
+    depth of the ``foot`` geoms inside the supporting tips' hull (``support``: 1 where a tip
+    supports; NaN with fewer than three), the margin of the ``foot`` geoms alone); writes the
+    tips' positions into ``tp`` (4, 3). The same point arrays and the same compiled margin as
+    ``stability_margin(gx[sensed, :2], cog)``, ``least_depth(gx[tips[support], :2], gx[foot, :2])``
+    and ``stability_margin(gx[foot, :2], cog)``."""
+    n = sensed.shape[0]
+    pts = np.empty((n, 2))
+    for a in range(n):
+        pts[a, 0], pts[a, 1] = gx[sensed[a], 0], gx[sensed[a], 1]
+    sensed_m = _signed_margin(pts, cx, cy)
+    nf = foot.shape[0]
+    fp = np.empty((nf, 2))
+    for a in range(nf):
+        fp[a, 0], fp[a, 1] = gx[foot[a], 0], gx[foot[a], 1]
+    crawlers = _signed_margin(fp, cx, cy)
+    ns = 0
+    for i in range(tip_geoms.shape[0]):
+        g = tip_geoms[i]
+        tp[i, 0], tp[i, 1], tp[i, 2] = gx[g, 0], gx[g, 1], gx[g, 2]
+        if support[i]:
+            ns += 1
+    inside = math.nan
+    if ns >= 3:
+        sup = np.empty((ns, 2))
+        a = 0
+        for i in range(tip_geoms.shape[0]):
+            if support[i]:
+                sup[a, 0], sup[a, 1] = tp[i, 0], tp[i, 1]
+                a += 1
+        inside = least_depth(sup, fp)
+    return sensed_m, inside, crawlers
+
+
+@numba.njit(cache=True)
+def _tip_drifts(tips, moving, reset_mode, tp, st, st_on, sm, sm_on):  # pragma: no cover
+    """The tip drifts of :meth:`OctopusTask._mechanism`, compiled: the supporting arms (tip bit on
+    in ``tips``, not ``moving``) keep where their support phase began (``st``, ``st_on``) and
+    where it began in this controller mode (``sm``, ``sm_on``; all restarted first when
+    ``reset_mode``); returns (the largest drift, the largest within the mode) (m) as
+    :func:`tip_drift` and Python's ``max(drift, d)`` (d taken only when greater) give them."""
+    if reset_mode:
+        for i in range(sm_on.shape[0]):
+            sm_on[i] = False
+    drift = drift_mode = 0.0
+    for i in range(tp.shape[0]):
+        if (tips >> i) & 1 and i != moving:
+            if not st_on[i]:
+                st_on[i] = True
+                st[i, 0], st[i, 1], st[i, 2] = tp[i, 0], tp[i, 1], tp[i, 2]
+            else:
+                x, y, z = tp[i, 0] - st[i, 0], tp[i, 1] - st[i, 1], tp[i, 2] - st[i, 2]
+                d = math.sqrt(x * x + y * y + z * z)
+                if d > drift:
+                    drift = d
+            if not sm_on[i]:
+                sm_on[i] = True
+                sm[i, 0], sm[i, 1], sm[i, 2] = tp[i, 0], tp[i, 1], tp[i, 2]
+            else:
+                x, y, z = tp[i, 0] - sm[i, 0], tp[i, 1] - sm[i, 1], tp[i, 2] - sm[i, 2]
+                d = math.sqrt(x * x + y * y + z * z)
+                if d > drift_mode:
+                    drift_mode = d
+        else:
+            st_on[i] = False
+            sm_on[i] = False
+    return drift, drift_mode
 
 
 @numba.njit(cache=True)
@@ -456,6 +593,10 @@ class OctopusTask(TaskBase):
         self._rot_side = np.ascontiguousarray(self._rot_sel[0])
         self._rot_gain = np.ascontiguousarray(self._rot_sel[1], dtype=float)
         self._sample = (float("nan"),) * 5
+        # the stored row's template (:func:`_row_fill`): the sampled columns, NaN until the first
+        self._row_tmpl = np.full(len(COLUMNS), np.nan)
+        self._tp = np.empty((len(ARMS), 3))  # the tips' positions on a stored row (:func:`_mech_geometry`)
+        self._support = np.zeros(len(ARMS), np.bool_)
         # the sensed margin's points: the four track pulleys (the track footprint's ends)
         self._foot = np.array([model.geom(nm).id for side in Names.SIDES
                                for nm in Names.track_geoms(side) if not nm.endswith("_run")])
@@ -463,10 +604,11 @@ class OctopusTask(TaskBase):
         # (those tips, then the pulleys), one fancy index a stored row
         self._sensed_geoms = [np.concatenate((self.tip_geoms[[i for i in range(len(ARMS)) if b >> i & 1]],
                                               self._foot)) for b in range(1 << len(ARMS))]
-        # tip slip: where each tip's current contact run (support phase) began, None out of contact
-        self._tip_start: list[list[float] | None] = [None] * len(ARMS)
+        # tip slip: where each tip's current contact run (support phase) began, and whether it is
+        # in one (:func:`_tip_drifts`)
+        self._tip_start = (np.zeros((len(ARMS), 3)), np.zeros(len(ARMS), np.bool_))
         # the same, restarted when the controller's mode changes (walk, climb, release)
-        self._tip_start_mode: list[list[float] | None] = [None] * len(ARMS)
+        self._tip_start_mode = (np.zeros((len(ARMS), 3)), np.zeros(len(ARMS), np.bool_))
         self._mech_mode = float("nan")
         self._mech = (float("nan"),) * 5
         self.apply_tracks(np.zeros(2))
@@ -494,7 +636,7 @@ class OctopusTask(TaskBase):
         row's tip-back rule share it)."""
         t = self.data.time
         if t != self._att_t:
-            self._att, self._att_t = roll_pitch(self._xquat.tolist()), t
+            self._att, self._att_t = roll_pitch_f(*self._xquat.tolist()), t
         return self._att
 
     def check(self, obs: Observation, slow: bool) -> tuple[str, str] | None:
@@ -577,25 +719,30 @@ class OctopusTask(TaskBase):
         if not len(sel):
             self._behind, self._rear_prev = None, (math.nan, False)  # no contact: nothing to be behind (tip-back)
             return nan, nan, 0.0, nan, power
-        total, on_crawlers, n_loaded = self._loads()
+        b = self._buf
+        k = self._k
+        total, on_crawlers, _, n_loaded = _loads(k, f, b[3], b[7], rg, SUPPORT_LOAD, b[8], b[9], b[10], b[11])
+        if k > PW_BLOCK:  # numpy's own pairwise sum of long sums (as :meth:`_loads`)
+            total, on_crawlers, n_loaded = self._loads()
         v = d.qvel[:6].tolist()  # Python floats: x ** 2 is numpy's scalar power (libm's pow) too
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
                  abs(total - self._weight) < QS_LOAD * self._weight)
-        pts = self._buf[7][:len(sel)]  # the pass's ground points (x, y)
+        pts = b[7][:k]  # the pass's ground points (x, y)
         cog = self._com_xy
         # the footprint: the ground points of the contacts that carried > SUPPORT_LOAD N on the
         # stored rows of the last SUPPORT_MEMORY s (a track resting on the ground touches it
         # along its length, but MuJoCo reports a few chattering points of it at any one instant)
-        now = self._buf[10][:n_loaded]  # the loaded contacts' ground points (a view: add copies it)
+        now = b[10][:n_loaded]  # the loaded contacts' ground points (a view: add copies it)
         self._footprint.add(t, now)
-        self._tip_back(t, now, self._buf[11][:n_loaded], cog)
+        self._tip_back(t, now, b[11][:n_loaded], cog)
         # the static margin at quasi-static instants, the margin over every contact at the others
+        cx, cy = cog.tolist()  # stability_margin's arithmetic, one compiled call
         if quasi:
             foot = self._footprint.points()
-            m_load, m_all = (stability_margin(foot, cog) if len(foot) else nan), nan
+            m_load, m_all = (_signed_margin(foot, cx, cy) if len(foot) else nan), nan
         else:
-            m_load, m_all = nan, stability_margin(pts, cog)
+            m_load, m_all = nan, _signed_margin(pts, cx, cy)
         share = on_crawlers / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
 
@@ -631,10 +778,9 @@ class OctopusTask(TaskBase):
         hx, hy = ax / n, ay / n
         cx, cy = cog.tolist()
         cs = cx * hx + cy * hy  # the COG along the heading (m)
-        along = [x * hx + y * hy for x, y in loaded.tolist()]
-        rs = min(along)  # the rearmost loaded contact (m); the first of equals, as np.argmin
-        k = along.index(rs)
-        behind = rs > cs and bool(self._rear_end[geoms[k]])
+        # the rearmost loaded contact (m); the first of equals, as np.argmin; on a rear end?
+        rs, rear = _rearmost(loaded, geoms, self._rear_end, hx, hy)
+        behind = rs > cs and bool(rear)
         self._rear_prev = (rs, behind)
         same = abs(rs - prev[0]) < TIP_BACK_JUMP  # the same contact as on the last row (NaN: no)
         run = self._behind
@@ -726,8 +872,9 @@ class OctopusTask(TaskBase):
 
     def _track_power(self) -> float:
         """The crawlers' drive power (W): this tick's traction force x the commanded track speed."""
-        fx, v = self._track_force, self._v
-        return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
+        f0, f1 = self._track_force.tolist()
+        v0, v1 = self._v.tolist()
+        return abs(f0 * v0) + abs(f1 * v1)
 
     def tip_contacts(self) -> int:
         """Bits (1 << arm index, arms LF, RF, LR, RR) of the arm tips touching anything now."""
@@ -738,17 +885,21 @@ class OctopusTask(TaskBase):
         if cmd is None or self._row_k % self._row_stride == 0:
             self._sample, self._tips = self.sample(), float(self.tip_contacts())
             self._mech = self._mechanism(int(self._tips), cmd)
+            tm = self._row_tmpl
+            # item by item (the columns of _SAMPLE_COLS, _TIPS_COL, _MECH_COLS): cheaper than fancy indexing
+            tm[5], tm[15], tm[16], tm[17], tm[18] = self._sample
+            tm[8] = self._tips
+            tm[25], tm[26], tm[27], tm[28], tm[29], tm[30] = self._mech
         self._row_k += 1
-        m_load, m_all, quasi, share, tpow = self._sample
         # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
-        if obs._flat is not None:  # the observation's one buffer: flippers, arms LF, RF, LR, RR, torques
-            b = obs._flat.tolist()
-            qf, rf, rr, te = b[0:4], b[7:10], b[13:16], b[20:24]
-        else:
-            te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
-            rf, rr = qa[1], qa[3]
+        flat = obs._flat
+        if flat is not None:  # the observation's one buffer: one compiled fill of a fresh row
+            return _row_fill(self._row_tmpl, flat, s, lat, z, obs.roll, obs.pitch, mode, mov)
+        m_load, m_all, quasi, share, tpow = self._sample
+        te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
+        rf, rr = qa[1], qa[3]
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
                 0.5 * (qf[0] + qf[1]), 0.5 * (qf[2] + qf[3]),
                 te[0], te[1], te[2], te[3],
@@ -787,49 +938,35 @@ class OctopusTask(TaskBase):
         footholds held) is read apart from the climb, where the paper does "not try to keep the
         position of the endpoint of arms consistent" (Fig. 9e).
         """
-        gx = self._geom_xpos
-        sensed = stability_margin(gx[self._sensed_geoms[tips], :2], self._com_xy)
-        tp = gx[self.tip_geoms].tolist()
-        st, sm = self._tip_start, self._tip_start_mode
         mode = float(cmd.mode) if cmd is not None else self._mech_mode
-        if mode != self._mech_mode:
-            sm[:] = [None] * len(ARMS)
+        reset = mode != self._mech_mode
+        if reset:
             self._mech_mode = mode
         # the arm in transfer is not a support, whatever it touches (a swing that grazes the
         # block's face and slides down it is a collision, not a foothold)
         moving = cmd.moving_arm if cmd is not None else -1
-        drift = drift_mode = 0.0
-        support = []  # the supporting arms: tip in contact, not the arm in transfer
+        sup = self._support  # the supporting arms: tip in contact, not the arm in transfer
         for i in range(len(ARMS)):
-            if tips >> i & 1 and i != moving:
-                support.append(i)
-                if st[i] is None:
-                    st[i] = tp[i]
-                else:
-                    drift = max(drift, tip_drift(tp[i], st[i]))
-                if sm[i] is None:
-                    sm[i] = tp[i]
-                else:
-                    drift_mode = max(drift_mode, tip_drift(tp[i], sm[i]))
-            else:
-                st[i] = sm[i] = None
+            sup[i] = tips >> i & 1 and i != moving
+        cx, cy = self._com_xy.tolist()
+        # the sensed margin, the crawlers' depth in the supporting tips' hull, their own margin
+        sensed, inside, crawlers = _mech_geometry(self._geom_xpos, self._sensed_geoms[tips], self.tip_geoms, sup,
+                                                  self._foot, cx, cy, self._tp)
+        drift, drift_mode = _tip_drifts(tips, int(moving), reset, self._tp, *self._tip_start, *self._tip_start_mode)
         if cmd is not None:
             a, b = cmd.track.tolist()
             v = max(abs(a), abs(b))  # the crawlers' commands are finite (steer)
         else:
             v = float("nan")
-        inside = float("nan")
-        if len(support) >= 3:
-            inside = least_depth(gx[self.tip_geoms[support], :2], gx[self._foot, :2])
-        crawlers = stability_margin(gx[self._foot, :2], self._com_xy)
-        return float(sensed), drift, v, drift_mode, float(inside), float(crawlers)
+        return sensed, drift, v, drift_mode, inside, crawlers
 
     def power(self, obs: Observation) -> float:
         """Servo power |tau qdot| summed, plus the crawlers' drive power (this tick's traction
         force x the commanded track speed)."""
         a, b = self._pa, self._pb
-        _abs2(self._act_force, self._act_vel, a, b)  # np.abs of both, one call
-        return float(np.dot(a, b)) + self._track_power()
+        # np.abs of both and the crawlers' power (:meth:`_track_power`), one call
+        tp = _power_parts(self._act_force, self._act_vel, a, b, self._track_force, self._v)
+        return float(np.dot(a, b)) + tp
 
     def metrics(self, log) -> dict[str, float]:
         """Extremes of attitude; the static margin (load-filtered polygon) at quasi-static

@@ -158,9 +158,7 @@ class CLMConfig:
                                    "odometry elsewhere. Off by default: it halves step-400's walk tip slip (median "
                                    "0.093 -> 0.043 m, 20 seeds) but the climb that starts from footholds held in place "
                                    "releases with less margin (step-400 static minimum median 0.154 -> 0.112 m, worst "
-                                   "0.011, with the 0.6 rad nose cap; with climb_pitch 0.45 it does not, 0.190, but "
-                                   "the 450 mm riser then ends stuck in 2 of 3 seeds); docs/octopus.md, 'The front "
-                                   "flippers as feelers' and 'The nose lift's cap'")
+                                   "0.011; docs/octopus.md, 'The front flippers as feelers')")
     feel_torque: float = param(10.0, gt=0, unit="N m",
                                doc="flipper_feel: a front flipper pushed up by more than this (the riser against its "
                                    "tip; a free flipper reads +1 to +3 N m, one against the step-400 riser -18 to "
@@ -260,15 +258,15 @@ class CLMConfig:
                                    "against 55 / 55 s, with the "
                                    "same 40/40 successes: the false landings re-lowered (relower_dz), the settle "
                                    "band and the stalled climb's recovery (stall_time) made the wait unneeded")
-    climb_pitch: float = param(0.45, gt=0, le=math.pi / 2, unit="rad",
+    climb_pitch: float = param(0.6, gt=0, le=math.pi / 2, unit="rad",
                                doc="nose-up pitch the front booms lift toward in the nose climb (nose_climb); above it "
-                                   "they hold, the front flippers hold and the rear flippers push [choose: half the "
-                                   "walk guard guard_pitch, so the booms take the nose at most half way to the "
-                                   "stability monitor; the rest of the climb's pitch is the step's and the crawlers' "
-                                   "(Fig. 9e). Not the paper's measured 0.6 rad (the default until 2026-12-07), "
-                                   "which made step-400's max pitch the setting read back: with the cap anywhere "
-                                   "from 0.3 to 0.55 the 400 mm step lifts the nose to 0.587-0.590 rad itself; "
-                                   "docs/octopus.md, 'The nose lift's cap']")
+                                   "they hold, the front flippers hold and the rear flippers push [P: the CLM climb's "
+                                   "largest pitch, 0.6 rad: a measured result used as a setting]; below the walk "
+                                   "guard guard_pitch, which backs the crawlers off in the climb too (the stability "
+                                   "monitor). Step-400 reads it back (0.603), but with a cap of 0.3-0.55 the step "
+                                   "lifts the nose to 0.587-0.590 itself; a cap of 0.45-0.55 fails the zoo's 400 mm "
+                                   "course 3/3 (the front flippers held above the top), so 0.6 stays "
+                                   "(docs/octopus.md, 'The nose lift's cap')")
     climb_press: float = param(0.01, ge=0, unit="m",
                                doc="nose climb: a pressing (not lifting) tip's target sits this far below its sensed "
                                    "height plus the tick's predicted motion (eqs. 22-27 in x and z): a bounded press "

@@ -7,33 +7,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from terrabench.sim.episode import Episode
 from terrabench.systems.octopus import arm_kinematics as ak
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names
 from terrabench.systems.octopus.scenarios import SYSTEM
 from terrabench.systems.octopus.stability import convex_hull, stability_margin
-
-
-def _episode(seconds: float = 3.0, method: str = "clm", overrides: dict | None = None):
-    """A CLM episode stepped ``seconds`` in (arms placed, tracks and tips on the ground)."""
-    spec = SYSTEM.plan(methods=[method], instances=["step-400"], seeds=1,
-                       overrides={"protocol.timeout": 30.0, **(overrides or {})})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, stop = ep.begin()
-    cmd = None
-    while obs.t < seconds and stop is None:
-        cmd = ctl(obs)
-        obs, stop = ep.step(cmd)
-    assert stop is None
-    return task, ctl, ep, obs, cmd
-
-
-@pytest.fixture(scope="module")
-def walking():
-    return _episode()
 
 
 def test_contact_pass_is_mujocos_contact_force(walking):
@@ -93,12 +70,12 @@ def test_traction_is_the_numpy_formula_bitwise(walking):
     assert (got > 0).all()  # both crawlers drive on the ground
 
 
-def test_compiled_apply_is_the_numpy_apply_bitwise():
+def test_compiled_apply_is_the_numpy_apply_bitwise(octopus_episode):
     """The compiled command pass equals the plain numpy one (kept for actuator orders other than
     the builder's) on commands beyond the speed limits, with a power limit that binds."""
     runs = []
     for compiled in (True, False):
-        task, ctl, ep, obs, cmd = _episode(1.0, overrides={"robot.track_power": 2.0})
+        task, ctl, ep, obs, cmd = octopus_episode(1.0, overrides={"robot.track_power": 2.0})
         if not compiled:
             task._ctrl_view = None
         rng = np.random.default_rng(3)

@@ -6,29 +6,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
-from terrabench.sim.episode import Episode
 from terrabench.systems.octopus.robot import ARMS
-from terrabench.systems.octopus.scenarios import SYSTEM
 from terrabench.systems.octopus.stability import least_depth, stability_margin
 from terrabench.systems.octopus.task import COLUMNS, _mech_geometry, _power_parts, _rearmost, _row_fill
-
-
-@pytest.fixture(scope="module")
-def walking():
-    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1, overrides={"protocol.timeout": 30.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, stop = ep.begin()
-    cmd = None
-    while obs.t < 3.0 and stop is None:
-        cmd = ctl(obs)
-        obs, stop = ep.step(cmd)
-    assert stop is None
-    return task, ctl, ep, obs, cmd
 
 
 def _bits(a) -> np.ndarray:

@@ -5,23 +5,15 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from terrabench.systems.octopus.stability import MERGE_FROM, _margin_parts, _sorted_order, convex_hull
-
-
-@numba.njit(cache=False)
-def _insertion_order(xs, ys):  # the hull's sort before the merge: stable insertion by (x, y)
-    n = xs.shape[0]
-    order = np.arange(n)
-    for a in range(1, n):
-        j, b = a, order[a]
-        while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
-            order[j] = order[j - 1]
-            j -= 1
-        order[j] = b
-    return order
+from terrabench.systems.octopus.stability import (
+    MERGE_FROM,
+    _insertion_order,
+    _margin_parts,
+    _sorted_order,
+    convex_hull,
+)
 
 
 def _cases(rng):

@@ -193,17 +193,18 @@ def test_compiled_margin_is_the_python_margin_bitwise():
 
 
 def test_python_float_shortcuts_are_numpys_values():
-    """The per-tick shortcuts on Python floats give numpy's bits: the tip drift (np.linalg.norm),
-    the IK on per-arm constants (the formula on the config), the compiled arm lead
+    """The per-tick shortcuts on Python floats give numpy's bits: the tip drift (np.linalg.norm;
+    compiled in _phase_drift), the IK on per-arm constants (the formula on the config), the compiled arm lead
     (np.minimum(np.maximum()))."""
     from terrabench.systems.octopus.clm import _within
-    from terrabench.systems.octopus.task import tip_drift
+    from terrabench.systems.octopus.task import _phase_drift
 
     cfg = SYSTEM.load_config(SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1)[0].config).robot
     rng = np.random.default_rng(4)
     for _ in range(2000):
         a, b = rng.normal(size=3) * 10.0 ** rng.uniform(-4, 0), rng.normal(size=3) * 0.1
-        assert tip_drift(a.tolist(), b.tolist()) == float(np.linalg.norm(a - b))
+        on = np.ones(1, np.bool_)  # a support phase that began at b
+        assert _phase_drift(a.reshape(1, 3), b.reshape(1, 3).copy(), on, 0) == float(np.linalg.norm(a - b))
     for k in ARMS:
         c = ak.ik_constants(cfg, k)
         for p in rng.uniform(-1.2, 1.2, (500, 3)):
@@ -280,7 +281,7 @@ def test_per_tick_float_shortcuts_are_the_old_formulas(walking):
     np.abs's; the stored row read from the observation's one buffer is the row read from its
     fields; the task's loads are the old numpy formulas on a live state."""
     from terrabench.sim.checks import roll_pitch, roll_pitch_f
-    from terrabench.systems.octopus.task import _abs2
+    from terrabench.systems.octopus.task import _power_parts
 
     rng = np.random.default_rng(7)
     for q in rng.normal(size=(2000, 4)):
@@ -289,7 +290,7 @@ def test_per_tick_float_shortcuts_are_the_old_formulas(walking):
     x, y = rng.normal(size=16) * 100, rng.normal(size=16)
     x[3], y[5] = -0.0, np.nan
     ax, ay = np.empty(16), np.empty(16)
-    _abs2(x, y, ax, ay)
+    _power_parts(x, y, ax, ay, np.zeros(2), np.zeros(2))
     assert np.array_equal(ax, np.abs(x)) and np.array_equal(ay, np.abs(y), equal_nan=True)
     task, ctl, ep, obs, cmd = walking
     assert obs._flat is not None

@@ -108,8 +108,13 @@ def test_rearmost_is_pythons_min_and_index():
 
 def test_tip_drifts_are_the_python_loop():
     """_tip_drifts keeps the support phases' starts and gives the drifts of the old loop (lists,
-    None out of contact, tip_drift and Python's max), over random sequences of rows."""
-    from terrabench.systems.octopus.task import _tip_drifts, tip_drift
+    None out of contact, the distance on Python floats and Python's max), over random sequences of
+    rows."""
+    from terrabench.systems.octopus.task import _tip_drifts
+
+    def tip_drift(p, q):  # the old loop's distance, on Python floats
+        x, y, z = p[0] - q[0], p[1] - q[1], p[2] - q[2]
+        return math.sqrt(x * x + y * y + z * z)
 
     rng = np.random.default_rng(9)
     n = len(ARMS)

@@ -18,14 +18,28 @@ MERGE_FROM = 16
 
 
 @numba.njit(cache=True)
-def _sorted_order(xs, ys):  # pragma: no cover
-    """The indices of the points (xs, ys) in stable (x, y) order: numpy's lexsort order, what a
-    stable insertion sort gives (the hull's order before this helper; kept for short or NaN-holding
-    inputs). Beyond MERGE_FROM points without NaN, a stable bottom-up merge sort: the ordering is
-    then a strict weak one, whose stable sorted permutation is unique, so the same indices in
-    O(n log n) rather than O(n^2) (tests/octopus/test_octopus_hull_sort.py checks it)."""
+def _insertion_order(xs, ys):  # pragma: no cover
+    """The indices of the points (xs, ys) by a stable insertion sort on (x, y): numpy's lexsort
+    order, whatever the values (NaN included)."""
     n = xs.shape[0]
     order = np.arange(n)
+    for a in range(1, n):
+        j, b = a, order[a]
+        while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
+            order[j] = order[j - 1]
+            j -= 1
+        order[j] = b
+    return order
+
+
+@numba.njit(cache=True)
+def _sorted_order(xs, ys):  # pragma: no cover
+    """The indices of the points (xs, ys) in stable (x, y) order: :func:`_insertion_order`'s (the
+    hull's order before this helper; kept for short or NaN-holding inputs). Beyond MERGE_FROM
+    points without NaN, a stable bottom-up merge sort: the ordering is then a strict weak one,
+    whose stable sorted permutation is unique, so the same indices in O(n log n) rather than
+    O(n^2) (tests/octopus/test_octopus_hull_sort.py checks it)."""
+    n = xs.shape[0]
     finite = n >= MERGE_FROM
     if finite:
         for a in range(n):
@@ -33,14 +47,8 @@ def _sorted_order(xs, ys):  # pragma: no cover
                 finite = False
                 break
     if not finite:
-        for a in range(1, n):  # stable insertion sort by (x, y): numpy's lexsort order
-            j, b = a, order[a]
-            while j > 0 and (xs[order[j - 1]] > xs[b] or (xs[order[j - 1]] == xs[b] and ys[order[j - 1]] > ys[b])):
-                order[j] = order[j - 1]
-                j -= 1
-            order[j] = b
-        return order
-    src, dst = order, np.empty(n, order.dtype)
+        return _insertion_order(xs, ys)
+    src, dst = np.arange(n), np.empty(n, np.int64)
     width = 1
     while width < n:
         lo = 0
@@ -175,6 +183,16 @@ def least_depth(support_xy, points_xy):  # pragma: no cover
     return best
 
 
+@numba.njit(cache=True)
+def signed_margin(pts, cx, cy):  # pragma: no cover
+    """:func:`stability_margin` of the (n, 2) float ``pts`` about (cx, cy), callable from compiled
+    code (NaN without points)."""
+    m, inside, d = _margin_parts(pts, cx, cy)
+    if m == 0:
+        return math.nan
+    return d if inside else -d
+
+
 def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     """Signed distance (m) from ``cog_xy`` (2,) to the boundary of the hull of ``support_xy`` (n, 2).
 
@@ -184,10 +202,7 @@ def stability_margin(support_xy: np.ndarray, cog_xy: np.ndarray) -> float:
     """
     pts = support_xy if isinstance(support_xy, np.ndarray) and support_xy.dtype == np.float64 else \
         np.asarray(support_xy, float)
-    m, inside, d = _margin_parts(pts.reshape(-1, 2), float(cog_xy[0]), float(cog_xy[1]))
-    if m == 0:
-        return float("nan")
-    return d if inside else -d
+    return signed_margin(pts.reshape(-1, 2), float(cog_xy[0]), float(cog_xy[1]))
 
 
 class Footprint:

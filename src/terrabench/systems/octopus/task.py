@@ -21,7 +21,7 @@ from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.robot import ARMS, FLIPPERS, Names, actuated_joints, add_robot
 from terrabench.systems.octopus.rules import Command
 from terrabench.systems.octopus.sensing import Observation, roll_pitch_f
-from terrabench.systems.octopus.stability import Footprint, _margin_parts, least_depth
+from terrabench.systems.octopus.stability import Footprint, least_depth, signed_margin
 from terrabench.terrain import pieces
 from terrabench.terrain.mjcf import GROUND_BIT
 
@@ -68,13 +68,6 @@ TURN_OVER_PITCH = 1.6
 ROUGH_LEVELS = {"rough-1": 0.01, "rough-2": 0.02, "rough-3": 0.04}
 #: rough ground: start this far behind the origin, succeed this far past it (m): 1.5 m of travel
 ROUGH_GOAL = 0.75
-
-
-def tip_drift(p: list[float], q: list[float]) -> float:
-    """|p - q| of two 3-D points (m) on Python floats: np.linalg.norm's value (the square root of
-    a sequential dot product; checked in tests/octopus/test_octopus_perf.py), without its cost."""
-    x, y, z = p[0] - q[0], p[1] - q[1], p[2] - q[2]
-    return math.sqrt(x * x + y * y + z * z)
 
 
 @numba.njit(cache=True)
@@ -194,21 +187,20 @@ def _side_traction(k, f, d1, d2, side, out):  # pragma: no cover
 
 
 @numba.njit(cache=True)
-def _abs2(x, y, ax, ay):  # pragma: no cover
-    """``ax[:] = |x|``, ``ay[:] = |y|`` (np.abs's values: the sign bit cleared)."""
-    for i in range(x.shape[0]):
-        ax[i] = abs(x[i])
-        ay[i] = abs(y[i])
+def _drive_power(fx, v):  # pragma: no cover
+    """The crawlers' drive power (W): each side's traction force ``fx`` x its commanded speed ``v``,
+    ``|fx0 v0| + |fx1 v1|``."""
+    return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
 
 
 @numba.njit(cache=True)
 def _power_parts(force, vel, ax, ay, fx, v):  # pragma: no cover
-    """:func:`_abs2` of the actuators' forces and velocities into ``ax``, ``ay``, and returns the
-    crawlers' drive power ``|fx0 v0| + |fx1 v1|`` (W) (:meth:`OctopusTask._track_power`'s formula)."""
+    """``ax[:] = |force|``, ``ay[:] = |vel|`` (np.abs's values: the sign bit cleared) for the
+    servos' power, and returns :func:`_drive_power` of ``fx``, ``v``: one call a tick."""
     for i in range(force.shape[0]):
         ax[i] = abs(force[i])
         ay[i] = abs(vel[i])
-    return abs(fx[0] * v[0]) + abs(fx[1] * v[1])
+    return _drive_power(fx, v)
 
 
 #: the stored row's columns that change on the sampled rows only (:meth:`OctopusTask.row`): they
@@ -258,15 +250,6 @@ def _rearmost(loaded, geoms, rear_end, hx, hy):  # pragma: no cover
 
 
 @numba.njit(cache=True)
-def _signed_margin(pts, cx, cy):  # pragma: no cover
-    """:func:`~terrabench.systems.octopus.stability.stability_margin` of (n, 2) float ``pts``."""
-    m, inside, d = _margin_parts(pts, cx, cy)
-    if m == 0:
-        return math.nan
-    return d if inside else -d
-
-
-@numba.njit(cache=True)
 def _mech_geometry(gx, sensed, tip_geoms, support, foot, cx, cy, tp):  # pragma: no cover
     """The geometry of :meth:`OctopusTask._mechanism` in one compiled call, from the geoms' world
     positions ``gx``: (the sensed margin of the ``sensed`` geoms' x, y about (cx, cy), the least
@@ -279,12 +262,12 @@ def _mech_geometry(gx, sensed, tip_geoms, support, foot, cx, cy, tp):  # pragma:
     pts = np.empty((n, 2))
     for a in range(n):
         pts[a, 0], pts[a, 1] = gx[sensed[a], 0], gx[sensed[a], 1]
-    sensed_m = _signed_margin(pts, cx, cy)
+    sensed_m = signed_margin(pts, cx, cy)
     nf = foot.shape[0]
     fp = np.empty((nf, 2))
     for a in range(nf):
         fp[a, 0], fp[a, 1] = gx[foot[a], 0], gx[foot[a], 1]
-    crawlers = _signed_margin(fp, cx, cy)
+    crawlers = signed_margin(fp, cx, cy)
     ns = 0
     for i in range(tip_geoms.shape[0]):
         g = tip_geoms[i]
@@ -304,34 +287,37 @@ def _mech_geometry(gx, sensed, tip_geoms, support, foot, cx, cy, tp):  # pragma:
 
 
 @numba.njit(cache=True)
+def _phase_drift(tp, start, on, i):  # pragma: no cover
+    """Tip ``i``'s distance (m) from where its support phase began (``start[i]``, ``on[i]``): 0 on
+    the phase's first row, which sets the start. The distance is np.linalg.norm's value (the
+    square root of a sequential dot product; tests/octopus/test_octopus_perf.py)."""
+    if not on[i]:
+        on[i] = True
+        start[i, 0], start[i, 1], start[i, 2] = tp[i, 0], tp[i, 1], tp[i, 2]
+        return 0.0
+    x, y, z = tp[i, 0] - start[i, 0], tp[i, 1] - start[i, 1], tp[i, 2] - start[i, 2]
+    return math.sqrt(x * x + y * y + z * z)
+
+
+@numba.njit(cache=True)
 def _tip_drifts(tips, moving, reset_mode, tp, st, st_on, sm, sm_on):  # pragma: no cover
     """The tip drifts of :meth:`OctopusTask._mechanism`, compiled: the supporting arms (tip bit on
     in ``tips``, not ``moving``) keep where their support phase began (``st``, ``st_on``) and
     where it began in this controller mode (``sm``, ``sm_on``; all restarted first when
-    ``reset_mode``); returns (the largest drift, the largest within the mode) (m) as
-    :func:`tip_drift` and Python's ``max(drift, d)`` (d taken only when greater) give them."""
+    ``reset_mode``); returns (the largest drift, the largest within the mode) (m), each as
+    Python's ``max(drift, d)`` of the :func:`_phase_drift` values (d taken only when greater)."""
     if reset_mode:
         for i in range(sm_on.shape[0]):
             sm_on[i] = False
     drift = drift_mode = 0.0
     for i in range(tp.shape[0]):
         if (tips >> i) & 1 and i != moving:
-            if not st_on[i]:
-                st_on[i] = True
-                st[i, 0], st[i, 1], st[i, 2] = tp[i, 0], tp[i, 1], tp[i, 2]
-            else:
-                x, y, z = tp[i, 0] - st[i, 0], tp[i, 1] - st[i, 1], tp[i, 2] - st[i, 2]
-                d = math.sqrt(x * x + y * y + z * z)
-                if d > drift:
-                    drift = d
-            if not sm_on[i]:
-                sm_on[i] = True
-                sm[i, 0], sm[i, 1], sm[i, 2] = tp[i, 0], tp[i, 1], tp[i, 2]
-            else:
-                x, y, z = tp[i, 0] - sm[i, 0], tp[i, 1] - sm[i, 1], tp[i, 2] - sm[i, 2]
-                d = math.sqrt(x * x + y * y + z * z)
-                if d > drift_mode:
-                    drift_mode = d
+            d = _phase_drift(tp, st, st_on, i)
+            if d > drift:
+                drift = d
+            d = _phase_drift(tp, sm, sm_on, i)
+            if d > drift_mode:
+                drift_mode = d
         else:
             st_on[i] = False
             sm_on[i] = False
@@ -720,10 +706,8 @@ class OctopusTask(TaskBase):
             self._behind, self._rear_prev = None, (math.nan, False)  # no contact: nothing to be behind (tip-back)
             return nan, nan, 0.0, nan, power
         b = self._buf
-        k = self._k
-        total, on_crawlers, _, n_loaded = _loads(k, f, b[3], b[7], rg, SUPPORT_LOAD, b[8], b[9], b[10], b[11])
-        if k > PW_BLOCK:  # numpy's own pairwise sum of long sums (as :meth:`_loads`)
-            total, on_crawlers, n_loaded = self._loads()
+        k = len(sel)
+        total, on_crawlers, n_loaded = self._load_sums(k, f, rg)
         v = d.qvel[:6].tolist()  # Python floats: x ** 2 is numpy's scalar power (libm's pow) too
         quasi = (math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) < QS_SPEED and
                  math.sqrt(v[3] ** 2 + v[4] ** 2 + v[5] ** 2) < QS_RATE and
@@ -740,9 +724,9 @@ class OctopusTask(TaskBase):
         cx, cy = cog.tolist()  # stability_margin's arithmetic, one compiled call
         if quasi:
             foot = self._footprint.points()
-            m_load, m_all = (_signed_margin(foot, cx, cy) if len(foot) else nan), nan
+            m_load, m_all = (signed_margin(foot, cx, cy) if len(foot) else nan), nan
         else:
-            m_load, m_all = nan, _signed_margin(pts, cx, cy)
+            m_load, m_all = nan, signed_margin(pts, cx, cy)
         share = on_crawlers / total if total > 0 else nan
         return m_load, m_all, float(quasi), share, float(power)
 
@@ -814,6 +798,11 @@ class OctopusTask(TaskBase):
         k = len(sel)
         if not k:
             return 0.0, 0.0, 0
+        return self._load_sums(k, f, rg)
+
+    def _load_sums(self, k: int, f: np.ndarray, rg: np.ndarray) -> tuple[float, float, int]:
+        """:meth:`_loads` of this instant's ``k`` > 0 contacts (their forces ``f``, robot geoms
+        ``rg``, from :meth:`_contacts`)."""
         b = self._buf
         total, crawlers, c, m = _loads(k, f, b[3], b[7], rg, SUPPORT_LOAD, b[8], b[9], b[10], b[11])
         if k > PW_BLOCK:  # numpy's own pairwise sum of long sums
@@ -872,9 +861,7 @@ class OctopusTask(TaskBase):
 
     def _track_power(self) -> float:
         """The crawlers' drive power (W): this tick's traction force x the commanded track speed."""
-        f0, f1 = self._track_force.tolist()
-        v0, v1 = self._v.tolist()
-        return abs(f0 * v0) + abs(f1 * v1)
+        return _drive_power(self._track_force, self._v)
 
     def tip_contacts(self) -> int:
         """Bits (1 << arm index, arms LF, RF, LR, RR) of the arm tips touching anything now."""
@@ -885,11 +872,12 @@ class OctopusTask(TaskBase):
         if cmd is None or self._row_k % self._row_stride == 0:
             self._sample, self._tips = self.sample(), float(self.tip_contacts())
             self._mech = self._mechanism(int(self._tips), cmd)
-            tm = self._row_tmpl
-            # item by item (the columns of _SAMPLE_COLS, _TIPS_COL, _MECH_COLS): cheaper than fancy indexing
-            tm[5], tm[15], tm[16], tm[17], tm[18] = self._sample
-            tm[8] = self._tips
-            tm[25], tm[26], tm[27], tm[28], tm[29], tm[30] = self._mech
+            tm = self._row_tmpl  # item by item (sampled rows only): cheaper than fancy indexing
+            for c, v in zip(_SAMPLE_COLS, self._sample):
+                tm[c] = v
+            tm[_TIPS_COL] = self._tips
+            for c, v in zip(_MECH_COLS, self._mech):
+                tm[c] = v
         self._row_k += 1
         # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
         mode = float(cmd.mode) if cmd is not None else np.nan

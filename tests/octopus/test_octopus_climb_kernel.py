@@ -13,7 +13,7 @@ from terrabench.systems.octopus.scenarios import SYSTEM
 
 
 def _climb_supports_python(tgt, lifted, tip_z, over, climb_hold, px, pz, cs, sn, lx, lz, up, pitch, h, h_rear,
-                           h_est, pitch0, roll, cfg, ikc, rmin, mount, arm):
+                           h_est, pitch0, roll, cfg, ikc, rmin, mount, arm, rear_turn=False):
     """The loop of CLMController._climb_nose as it was written on Python floats (before the kernel):
     returns the arms lifted clear, in order; ``tgt`` and ``arm`` are updated in place."""
     cleared = []
@@ -35,7 +35,9 @@ def _climb_supports_python(tgt, lifted, tip_z, over, climb_hold, px, pz, cs, sn,
         x0 = tx
         dx, dz = tx - px, tz - pz
         tx, tz = px + dx * cs + dz * sn - lx, pz - dx * sn + dz * cs - lz
-        if not front:
+        if not front and rear_turn:
+            tx = tx + lx - (lx if up else 0.0)
+        elif not front:
             tx = x0 - (lx if up else 0.0)
         if not front and over:
             if h_rear < h_est + cfg.lift_margin and pitch > pitch0:
@@ -57,7 +59,7 @@ def _climb_supports_python(tgt, lifted, tip_z, over, climb_hold, px, pz, cs, sn,
 def test_compiled_climb_supports_are_the_python_loop():
     """clm._climb_supports: the tip targets, the joints and the arms lifted clear of the Python loop,
     bit for bit, over random ticks (lifting fronts, pressing and lifting rears, roll levelling,
-    out-of-range feet, front_support on and off)."""
+    out-of-range feet, front_support on and off, the rear tips turned or held)."""
     spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1)[0]
     cfg = SYSTEM.load_config(spec.config)
     ctl = SYSTEM.make_controller(spec, cfg, None)
@@ -79,14 +81,16 @@ def test_compiled_climb_supports_are_the_python_loop():
         a = pitch0 - pitch
         lx, lz = 0.06 * 0.02 * math.cos(a), 0.06 * 0.02 * math.sin(a)
         h, h_rear, h_est = (float(v) for v in rng.normal(0.0, 0.05, 3))
+        rear_turn = n % 3 == 0
         want_tgt, want_arm = tgt.copy(), np.zeros((4, 3))
         want = _climb_supports_python(want_tgt, lifted, tip_r[:, 2].tolist(), over, c.climb_hold, px, pz, cs, sn,
-                                      lx, lz, up, pitch, h, h_rear, h_est, pitch0, roll, c, ikc, rmin, mount, want_arm)
+                                      lx, lz, up, pitch, h, h_rear, h_est, pitch0, roll, c, ikc, rmin, mount, want_arm,
+                                      rear_turn)
         arm = np.zeros((4, 3))
         got = _climb_supports(tgt, lifted, tip_r, over, c.climb_hold, px, pz, cs, sn, lx, lz, lx if up else 0.0,
                               pitch < c.climb_pitch and h < c.lift_margin,
                               h_rear < h_est + c.lift_margin and pitch > pitch0, c.roll_level * roll, c.lift_dz,
-                              c.climb_press, c.front_support, ikc, rmin, mount, c.reach_max, arm)
+                              c.climb_press, c.front_support, ikc, rmin, mount, c.reach_max, arm, rear_turn)
         assert [i for i in range(4) if got >> i & 1] == want
         assert tgt.tobytes() == want_tgt.tobytes() and arm.tobytes() == want_arm.tobytes()
         cleared_seen += len(want)

@@ -428,3 +428,67 @@ def test_the_step_not_the_booms_cap_sets_the_climbs_pitch():
     assert max(low) - min(low) < 0.01
     assert min(low) > 0.55 + 0.02  # above every one of those caps
     assert pitch[0.85] > max(low) + 0.15  # a cap above the step's pitch is read back
+
+
+def test_the_face_centre_holds_the_front_pulley_on_the_face_and_the_rear_on_the_ground():
+    """clm.face_centre: a small turn of the body about the returned centre moves the front pulley
+    centre along the riser's face (its level-frame x still to second order) and the rear contact
+    along the ground (its level-frame z still), at any pitch and rear contact; about the rear contact
+    (the foothold rule's default centre) the front pulley centre moves into the face to first order."""
+    from terrabench.systems.octopus.clm import face_centre
+
+    rc, rng = RobotConfig(), np.random.default_rng(3)
+
+    def level(x, z, p):  # {R} -> the level frame (x, z), the IMU pitch p nose-up
+        return x * math.cos(p) - z * math.sin(p), x * math.sin(p) + z * math.cos(p)
+
+    def turned(pt, c, p, d):  # a body point after the body turns by d about the level-frame centre c
+        x, z = level(*pt, p)
+        cx, cz = level(*c, p)
+        cs, sn = math.cos(d), math.sin(d)
+        return cx + (x - cx) * cs - (z - cz) * sn, cz + (x - cx) * sn + (z - cz) * cs
+
+    d = 1e-4  # a turn this small: what stays still does to second order (~d^2 x 0.4 m), a first-order
+    # move is d x ~0.1 m or more
+    for _ in range(200):
+        p = float(rng.uniform(0.0, 0.9))
+        rear = (float(rng.uniform(-0.6, -0.2)), float(rng.uniform(-0.2, -0.05)))
+        front = (rc.pulley_x, 0.0)
+        c = face_centre(*rear, p, rc.pulley_x)
+        assert abs(turned(front, c, p, d)[0] - level(*front, p)[0]) < 0.01 * d
+        assert abs(turned(rear, c, p, d)[1] - level(*rear, p)[1]) < 0.01 * d
+        # about the rear contact the front pulley centre moves back and forth by ~d x its height over it
+        rise = level(*front, p)[1] - level(*rear, p)[1]
+        assert abs(turned(front, rear, p, d)[0] - level(*front, p)[0]) == pytest.approx(d * rise, rel=1e-3)
+
+
+def test_the_face_centre_holds_the_tips_through_the_nose_lift():
+    """step-400 seed 0, from the climb's start to the front over the top (the nose lift, Fig. 9e):
+    turning the footholds about the rear contact (the default) lets every tip drift 10-21 cm with
+    the body; about the body's instantaneous centre (``clm.climb_face_pivot``) each stays within
+    6 cm (docs/octopus.md, "The nose lift's pivot")."""
+    from terrabench.sim.episode import Episode
+    from terrabench.systems.octopus.clm import CLIMB
+    from terrabench.systems.octopus.robot import ARMS, Names
+
+    def drift(face: bool) -> list[float]:
+        spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1,
+                           overrides={"clm.climb_face_pivot": face})[0]
+        _, task, ctl = SYSTEM.trial_parts(spec)
+        ep = Episode(task)
+        obs, stop = ep.begin()
+        tips = [ep.model.body(Names.tip(k)).id for k in ARMS]
+        start = None
+        while stop is None and obs.t < 40.0:
+            cmd = ctl(obs)
+            if start is None and ctl.machine.state == CLIMB:
+                start = ep.data.xpos[tips, :2].copy()
+            if start is not None and ctl.over:
+                assert not any(ctl.lifted)
+                return np.linalg.norm(ep.data.xpos[tips, :2] - start, axis=1).tolist()
+            obs, stop = ep.step(cmd)
+        raise AssertionError(f"no climb over the top by {obs.t:.1f} s")
+
+    held, dragged = drift(True), drift(False)
+    assert max(held) < 0.06
+    assert min(dragged) > 0.09 and max(dragged) > 0.2

@@ -126,7 +126,7 @@ def _pace_bound(foot, on, rem, period, rmin, mount, rmax, two):  # pragma: no co
 @numba.njit(cache=True)
 def _climb_supports(tgt, lifted, tip_r, over, climb_hold, piv_x, piv_z, cs, sn, lx, lz, lx_rear, lift_front,
                     lift_rear, roll_k, lift_dz, press, front_support, ikc, rmin, mount, rmax,
-                    arm):  # pragma: no cover
+                    arm, rear_turn):  # pragma: no cover
     """The nose climb's arm moving (:meth:`CLMController._climb_nose`, eqs. 22-27 for every support
     not ``lifted``), compiled: each tip target (``tgt`` (4, 3) in {R}, updated in place) turned by
     the tick's pitch change (cos ``cs``, sin ``sn``) about the rear ground contact (``piv_x``,
@@ -136,7 +136,9 @@ def _climb_supports(tgt, lifted, tip_r, over, climb_hold, piv_x, piv_z, cs, sn, 
     as flags: ``lift_front`` (the front booms lift), ``lift_rear`` (the rear booms lift the rear,
     once ``over``), ``roll_k`` = roll_level x IMU roll (the roll levelling's factor). Returns the
     bits of the arms whose foothold has left its range: those lift clear (the caller, in arm order:
-    the event), their joints not set here. The arithmetic and Python's min are the Python loop's
+    the event), their joints not set here. ``rear_turn`` (``climb_face_pivot`` before ``over``; the
+    centre then :func:`face_centre`): the rear tips' x turns about the centre too, moved by
+    ``lx_rear`` only. The arithmetic and Python's min are the Python loop's
     it replaced, bit for bit (tests/octopus/test_octopus_climb_kernel.py)."""
     out = 0
     for i in range(4):
@@ -167,7 +169,9 @@ def _climb_supports(tgt, lifted, tip_r, over, climb_hold, piv_x, piv_z, cs, sn, 
         x0 = tx
         dx, dz = tx - piv_x, tz - piv_z
         tx, tz = piv_x + dx * cs + dz * sn - lx, piv_z - dx * sn + dz * cs - lz
-        if not front:
+        if not front and rear_turn:
+            tx = tx + lx - lx_rear  # turned about the body's centre; the rear's own travel only
+        elif not front:
             # x: the rear tips keep their footholds (a pitch-change prediction about the rear
             # contact moved them more: measured, tip slip 0.37 -> 0.45 m); the body advances only
             # once lifted over the edge (S's rule: odometry from H >= H_EST), before that its
@@ -198,6 +202,18 @@ def _climb_supports(tgt, lifted, tip_r, over, climb_hold, piv_x, piv_z, cs, sn, 
             continue
         arm[i, 0], arm[i, 1], arm[i, 2] = ak.ik_f(tx, ty, tz, ikc[i])
     return out
+
+
+def face_centre(px: float, pz: float, pitch: float, pulley_x: float) -> tuple[float, float]:
+    """The body's instantaneous centre of rotation in {R} (x, z) while the front pulley stands against
+    a riser's face and the rear contact ``(px, pz)`` (in {R}, :meth:`CLMController._rear_pivot`) on
+    the ground: the face holds the front pulley centre's level-frame x, the ground the rear
+    contact's level-frame z, so the centre is where the normals cross, (the rear contact's x, the
+    front pulley centre's z) in the level frame ({R} turned by the IMU ``pitch``; the pulley
+    centres at z = 0 in {R}, the front one at x = ``pulley_x``)."""
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    xc, zc = px * cp - pz * sp, pulley_x * sp
+    return xc * cp + zc * sp, zc * cp - xc * sp
 
 
 # ---------------------------------------------------------------------------- controller
@@ -785,12 +801,15 @@ class CLMController(MachineController):
         a = self.pitch0 - obs.pitch
         lx, lz = v * self.dt * math.cos(a), v * self.dt * math.sin(a)
         px, pz = piv
+        face = cfg.climb_face_pivot and not self.over
+        if face:
+            px, pz = face_centre(px, pz, obs.pitch, r.pulley_x)
         lift_front = obs.pitch < cfg.climb_pitch and h < cfg.lift_margin
         lift_rear = h_rear < self.h_est + cfg.lift_margin and obs.pitch > self.pitch0
         out = _climb_supports(self.lift_tgt, self.lifted, self.tip_r, self.over, cfg.climb_hold, px, pz, cs, sn,
                               lx, lz, lx if up else 0.0, lift_front, lift_rear, cfg.roll_level * obs.roll,
                               cfg.lift_dz, cfg.climb_press, cfg.front_support, self._ikc, self._rmin, self._mount,
-                              cfg.reach_max, c.arm)
+                              cfg.reach_max, c.arm, face)
         if out:  # feet out of range (rare): those arms lift clear, in arm order (their events)
             for i, k in enumerate(ARMS):
                 if out >> i & 1:

@@ -238,6 +238,16 @@ class CLMConfig:
                              doc="while the lifted body drives, the supporting tips hold their footholds (their "
                                  "targets move back by the crawler travel, as in walking), so a front tip on a short "
                                  "tread does not roll into the next riser and block the climb")
+    climb_face_pivot: bool = param(False,
+                                   doc="nose climb, before the front is over: eqs. 22-27 turn the supports' targets "
+                                       "about the body's instantaneous centre with the front pulley against the "
+                                       "riser's face and the rear on the ground (:func:`.clm.face_centre`), the rear "
+                                       "tips' x too, instead of about the rear contact with the rear tips held in "
+                                       "{R}. Holds every tip within 2-7 cm through the nose lift of step-400 (9-23 cm "
+                                       "off), but the held rear footholds run out of reach in the rear lift and the "
+                                       "step's static margin falls 0.157 -> 0.074 m, the terraces' to ~0.005 m (10 "
+                                       "seeds; docs/octopus.md, 'The nose lift's pivot'): off, as the paper's 'we do "
+                                       "not try to keep the position of the endpoint of arms consistent'")
     nose_climb: bool = param(True,
                              doc="the climb of the paper's Fig. 9 (:meth:`.clm.CLMController._climb_nose`): the "
                                  "front booms lift the nose toward climb_pitch while the crawlers drive into the "

@@ -492,3 +492,28 @@ def test_the_face_centre_holds_the_tips_through_the_nose_lift():
     held, dragged = drift(True), drift(False)
     assert max(held) < 0.06
     assert min(dragged) > 0.09 and max(dragged) > 0.2
+
+
+def test_the_climbs_stages_run_in_order_and_the_rear_lift_loads_the_arms():
+    """step-400 seed 0: the stored ``climb_stage`` runs lift -> rear lift -> drive on -> release,
+    once each, inside the climb and release modes. The crawlers carry most of the normal load
+    while the nose lifts (their friction on the riser moves the body, Fig. 9e) and under a third
+    in the rear lift, where eq. 28's rear booms lift the rear crawlers off the lower ground while
+    the front booms press on the top (``climb_press``); without that press the crawlers carry
+    about half there."""
+    from terrabench.systems.octopus.clm import CLIMB, DRIVE_ON, LIFT, REAR_LIFT, RELEASE, RELEASING
+
+    r = _run("clm", "step-400")
+    assert r.status == "success"
+    ts = r.timeseries
+    stage, mode = np.nan_to_num(ts["climb_stage"]), ts["mode"]
+    runs = [int(k) for i, k in enumerate(stage) if k and (i == 0 or stage[i - 1] != k)]
+    assert runs == [LIFT, REAR_LIFT, DRIVE_ON, RELEASING]
+    assert np.all(np.isin(mode[stage > 0], (CLIMB, RELEASE))) and np.all(stage[mode == RELEASE] == RELEASING)
+    m = r.metrics
+    assert m["crawler_load_share_lift"] > 0.5 > 0.35 > m["crawler_load_share_rear_lift"]
+    unpressed = _run("clm", "step-400", **{"clm.climb_press": 0.0}).metrics["crawler_load_share_rear_lift"]
+    assert unpressed > 0.45
+    # the climb mode's one run is the three stages in turn: its mean share lies between theirs
+    stages = [m[f"crawler_load_share_{k}"] for k in ("lift", "rear_lift", "drive_on")]
+    assert min(stages) < m["crawler_load_share_phase_min"] < max(stages)

@@ -32,9 +32,9 @@ def test_row_fill_is_the_tuple_row(walking):
         obs._flat = flat
     assert isinstance(ref, tuple) and np.array_equal(_bits(row), _bits(ref))
     s, lat, z = task._position()
-    empty = _row_fill(task._row_tmpl, flat, s, lat, z, obs.roll, obs.pitch, np.nan, np.nan)
+    empty = _row_fill(task._row_tmpl, flat, s, lat, z, obs.roll, obs.pitch, np.nan, np.nan, np.nan)
     want = _bits(ref).copy()
-    want[[COLUMNS.index("mode"), COLUMNS.index("moving_arm")]] = _bits([np.nan, np.nan])
+    want[[COLUMNS.index("mode"), COLUMNS.index("moving_arm"), COLUMNS.index("climb_stage")]] = _bits([np.nan] * 3)
     assert np.array_equal(_bits(empty), want)
     assert empty is not row  # a fresh row each call
 

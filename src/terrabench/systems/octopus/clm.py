@@ -220,6 +220,11 @@ def face_centre(px: float, pz: float, pitch: float, pulley_x: float) -> tuple[fl
 WALK, CLIMB, RELEASE, INIT = 0, 1, 2, 3
 #: names of the controller states (the logged ``mode`` codes) in events and timelines
 MODE_NAMES = {WALK: "walk", CLIMB: "climb", RELEASE: "release", INIT: "init"}
+#: the climb's stages (the logged ``Command.stage``; 0 outside a climb): the nose lift of Fig. 9e
+#: (until the front is over the top; the lift to H_EST in the vertical climb), the rear lift of
+#: eq. 28 (until the rear is up), the drive on over the top (S toward L) and the release
+LIFT, REAR_LIFT, DRIVE_ON, RELEASING = 1, 2, 3, 4
+STAGE_NAMES = {LIFT: "lift", REAR_LIFT: "rear_lift", DRIVE_ON: "drive_on", RELEASING: "release"}
 #: arm sub-states in events: ``"<arm>.support"`` / ``"<arm>.transfer"``
 SUPPORT, TRANSFER = "support", "transfer"
 
@@ -979,7 +984,7 @@ class CLMController(MachineController):
             i = self._transfer(obs)
             if i < 0 and not self.queue and not any(self.phase.values()) and not any(self.landing):
                 self.machine.go(obs.t, WALK, "four arms placed")
-            c.mode, c.moving_arm = self.state, i
+            c.mode, c.moving_arm, c.stage = self.state, i, 0
             self._lead(obs)
             return c
         if state == WALK:
@@ -1050,11 +1055,22 @@ class CLMController(MachineController):
                        f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
                        f"nose up {obs.pitch:.2f} rad")
                 self.machine.go(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, {why}")
-            c.mode, c.moving_arm = self.state, i
+            c.mode, c.moving_arm, c.stage = self.state, i, LIFT if self.state == CLIMB else 0
             self._lead(obs)
             return c
         # CLIMB / RELEASE: eqs. 28-29 (lift, drive, release); see _climb
         self._climb(obs)
-        c.mode, c.moving_arm = self.state, -1
+        c.mode, c.moving_arm, c.stage = self.state, -1, self._stage()
         self._lead(obs)
         return c
+
+    def _stage(self) -> int:
+        """The climb's stage after this tick's climb step (:data:`STAGE_NAMES`; 0 once walking)."""
+        if self.state == RELEASE:
+            return RELEASING
+        if self.state != CLIMB:
+            return 0
+        if self.cfg.nose_climb:
+            return DRIVE_ON if self.up else REAR_LIFT if self.over else LIFT
+        # the vertical climb: S counts from H >= H_EST, the drive on
+        return DRIVE_ON if self.s > 0.0 else LIFT

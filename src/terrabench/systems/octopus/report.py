@@ -141,6 +141,9 @@ MECHANISM = (
     ("max_pitch_rad", "max pitch rad", "~0.6 (Fig. 9)"),
     ("crawler_load_share_min", "crawlers' least load share (climb)", "> 0.5"),
     ("crawler_load_share_phase_min", "crawlers' least mean share over a climb phase", "> 0.5"),
+    ("crawler_load_share_lift", "... over the nose lift (Fig. 9e)", "> 0.5"),
+    ("crawler_load_share_rear_lift", "... over the rear lift (eq. 28)", "> 0.5"),
+    ("crawler_load_share_drive_on", "... over the drive on the top (S to L)", "> 0.5"),
     ("tip_slip_max_m", "tip slip max m (support phase)", "< 0.02"),
     ("tip_slip_walk_max_m", "tip slip max m (support phase, walk)", "< 0.02"),
     ("tip_slip_climb_max_m", "tip slip max m (support phase, climb)", "- (paper: not kept, Fig. 9e)"),
@@ -331,6 +334,14 @@ def _series_figure(plt, ts: dict[str, np.ndarray], r: dict[str, Any], title: str
         ax[2].plot(t, ts["track_share"], label="track share of load", lw=0.8)
     if "tip_slip" in ts:
         ax[2].plot(t, ts["tip_slip"], label="tip slip in its support phase m", lw=0.8)
+    if "climb_stage" in ts:  # CLM's climb stages shaded behind the load share
+        from terrabench.systems.octopus.clm import STAGE_NAMES
+
+        stage = np.nan_to_num(np.asarray(ts["climb_stage"]))
+        for (k, name), color in zip(STAGE_NAMES.items(), ("tab:orange", "tab:purple", "tab:cyan", "tab:gray")):
+            if (stage == k).any():
+                ax[2].fill_between(t, 0, 1, where=stage == k, transform=ax[2].get_xaxis_transform(), step="mid",
+                                   color=color, alpha=0.15, lw=0, label=f"climb: {name.replace('_', ' ')}")
     ax[2].set_ylabel("m, -")
     ax[2].legend(loc="upper left", fontsize="small")
     arms = ("LF", "RF", "LR", "RR")

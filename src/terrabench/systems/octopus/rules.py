@@ -165,4 +165,5 @@ class Command:
     flip: np.ndarray = field(default_factory=lambda: np.zeros(4))
     arm: np.ndarray = field(default_factory=lambda: np.zeros((4, 3)))
     mode: int = 0  # controller state code (logged)
+    stage: int = 0  # the climb's stage (logged): 0 none, CLM's clm.STAGE_NAMES otherwise
     moving_arm: int = -1  # index of the arm in transfer, -1 none (logged)

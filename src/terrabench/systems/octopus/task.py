@@ -30,7 +30,7 @@ COLUMNS = ("s", "lat", "z", "roll", "pitch", "margin", "mode", "moving_arm", "ti
            "margin_all", "quasi", "track_share", "track_power",
            "RF_swing", "RF_boom", "RF_elbow", "RR_swing", "RR_boom", "RR_elbow",
            "margin_sensed", "tip_slip", "track_cmd", "tip_slip_mode", "crawlers_in_tips",
-           "margin_crawlers")
+           "margin_crawlers", "climb_stage")
 #: the supporting tips widen the crawlers' margin (Fig. 7's conclusion) when they add more than this
 #: (m): far above the hull's rounding (~1e-15 m), a millimetre is no stability a robot could use
 GAIN_EPS = 0.001
@@ -209,20 +209,22 @@ def _power_parts(force, vel, ax, ay, fx, v):  # pragma: no cover
 _SAMPLE_COLS = (5, 15, 16, 17, 18)
 _TIPS_COL = 8
 _MECH_COLS = (25, 26, 27, 28, 29, 30)
+_STAGE_COL = 31
 assert [COLUMNS[i] for i in _SAMPLE_COLS + (_TIPS_COL,) + _MECH_COLS] == [
     "margin", "margin_all", "quasi", "track_share", "track_power", "tip_contact", "margin_sensed", "tip_slip",
     "track_cmd", "tip_slip_mode", "crawlers_in_tips", "margin_crawlers"]
+assert COLUMNS[_STAGE_COL] == "climb_stage"
 
 
 @numba.njit(cache=True)
-def _row_fill(tmpl, flat, s, lat, z, roll, pitch, mode, mov):  # pragma: no cover
+def _row_fill(tmpl, flat, s, lat, z, roll, pitch, mode, mov, stage):  # pragma: no cover
     """A fresh stored row: the template's sampled figures (margins, tips, mechanism) and this
-    tick's values (position, attitude, command, flipper means, elbow torques, right arms' joints)
-    from the observation's one buffer ``flat`` (flippers, arms LF, RF, LR, RR, flipper torques,
-    elbow torques): :meth:`OctopusTask.row`'s tuple, value for value."""
+    tick's values (position, attitude, command, flipper means, elbow torques, right arms' joints,
+    the climb's stage) from the observation's one buffer ``flat`` (flippers, arms LF, RF, LR, RR,
+    flipper torques, elbow torques): :meth:`OctopusTask.row`'s tuple, value for value."""
     out = tmpl.copy()
     out[0], out[1], out[2], out[3], out[4] = s, lat, z, roll, pitch
-    out[6], out[7] = mode, mov
+    out[6], out[7], out[_STAGE_COL] = mode, mov, stage
     out[9] = 0.5 * (flat[0] + flat[1])
     out[10] = 0.5 * (flat[2] + flat[3])
     for i in range(4):
@@ -882,16 +884,17 @@ class OctopusTask(TaskBase):
         # Python floats (the same IEEE arithmetic as numpy scalars, without their per-item cost)
         mode = float(cmd.mode) if cmd is not None else np.nan
         mov = float(cmd.moving_arm) if cmd is not None else np.nan
+        stage = float(cmd.stage) if cmd is not None else np.nan
         flat = obs._flat
         if flat is not None:  # the observation's one buffer: one compiled fill of a fresh row
-            return _row_fill(self._row_tmpl, flat, s, lat, z, obs.roll, obs.pitch, mode, mov)
+            return _row_fill(self._row_tmpl, flat, s, lat, z, obs.roll, obs.pitch, mode, mov, stage)
         m_load, m_all, quasi, share, tpow = self._sample
         te, qa, qf = obs.tau_elbow.tolist(), obs.q_arm.tolist(), obs.q_flip.tolist()
         rf, rr = qa[1], qa[3]
         return (s, lat, z, obs.roll, obs.pitch, m_load, mode, mov, self._tips,
                 0.5 * (qf[0] + qf[1]), 0.5 * (qf[2] + qf[3]),
                 te[0], te[1], te[2], te[3],
-                m_all, quasi, share, tpow, *rf, *rr, *self._mech)
+                m_all, quasi, share, tpow, *rf, *rr, *self._mech, stage)
 
     def _mechanism(self, tips: int, cmd: Command | None) -> tuple[float, float, float, float, float, float]:
         """Mechanism figures on a stored row (evaluation only): (the sensed margin, the largest
@@ -994,7 +997,11 @@ class OctopusTask(TaskBase):
         of the normal load over the climb rows: CLM climb/release, CCM press/push/flatten),
         ``crawler_load_share_phase_min`` (the least, over the climb phases, of the crawlers' mean
         share through the phase: a phase is a run of rows in one climb mode, CLM's climb and its
-        release, CCM's press, push and flatten), ``tip_slip_max_m`` (largest tip drift within one
+        release, CCM's press, push and flatten), ``crawler_load_share_lift``,
+        ``crawler_load_share_rear_lift``, ``crawler_load_share_drive_on`` (the same least mean over
+        the runs of one stage of CLM's climbs, :data:`.clm.STAGE_NAMES`: the nose lift of Fig. 9e,
+        the rear lift of eq. 28, the drive on over the top; NaN where there is none),
+        ``tip_slip_max_m`` (largest tip drift within one
         support phase), ``tip_slip_walk_max_m`` and
         ``tip_slip_climb_max_m`` (the same within one support phase and controller mode: CLM's walk,
         its climb and release; NaN where there is none), ``tracks_stopped_share``
@@ -1024,11 +1031,14 @@ class OctopusTask(TaskBase):
         slip_mode = log.column("tip_slip_mode")[idx]
         walk = mode == clm.WALK if self.method == "clm" else np.zeros(len(mode), bool)
         in_climb = np.isin(mode, climb_modes)
+        stage = log.column("climb_stage")[idx]
         fin = lambda a, f: float(f(a[np.isfinite(a)])) if np.isfinite(a).any() else nan  # noqa: E731
         return {
             "max_pitch_rad": fin(np.abs(pitch), np.max),
             "crawler_load_share_min": float(share[climb].min()) if climb.any() else nan,
             "crawler_load_share_phase_min": _least_run_mean(mode, in_climb, share),
+            **{f"crawler_load_share_{clm.STAGE_NAMES[k]}": _least_run_mean(stage, stage == k, share)
+               for k in (clm.LIFT, clm.REAR_LIFT, clm.DRIVE_ON)},
             "tip_slip_max_m": fin(slip, np.max),
             "tip_slip_walk_max_m": fin(slip_mode[walk], np.max),
             "tip_slip_climb_max_m": fin(slip_mode[in_climb], np.max),

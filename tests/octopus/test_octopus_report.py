@@ -93,3 +93,48 @@ def test_release_points_read_the_position_and_the_tip_back_after_it():
     assert t1 == 10.0 and s1 == pytest.approx(0.0) and d1 == pytest.approx(0.4)
     assert t2 == 15.0 and s2 == pytest.approx(0.1) and d2 == pytest.approx(0.0)
     assert release_points(events, {}) == []
+
+
+def test_the_stage_figure_draws_the_default_climbs_stage_shares():
+    """report._stages: one bar per stage and task for the default CLM variant's climbing tasks, at
+    the median of the trials' shares, their range as a line; tasks without a climb and other
+    variants are left out, and without any climb there is no figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from terrabench.systems.octopus import report
+
+    class Page:
+        def __init__(self):
+            self.figs = []
+
+        def h2(self, text):
+            pass
+
+        def p(self, text):
+            pass
+
+        def figure(self, fig, name, caption, dpi=80):
+            self.figs.append((name, fig))
+
+    def row(variant, **m):
+        return {"method": "clm", "variant": variant, "metrics": m}
+
+    shares = {"crawler_load_share_lift": 0.6, "crawler_load_share_rear_lift": 0.3, "crawler_load_share_drive_on": 0.4}
+    g = {("step-400", "d"): [row("d", **shares), row("d", **{k: v + 0.1 for k, v in shares.items()})],
+         ("block-500", "d"): [row("d", crawler_load_share_lift=float("nan"))],
+         ("step-400", "other"): [row("other", **shares)]}
+    page = Page()
+    report._stages(page, plt, g, {"step-400": 0, "block-500": 1}, {"d"})
+    (name, fig), = page.figs
+    assert name == "stages.png"
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["step-400"]
+    heights = sorted(round(b.get_height(), 6) for b in ax.patches)
+    assert heights == [0.35, 0.45, 0.65]   # the medians of the two trials per stage
+    plt.close(fig)
+    page = Page()
+    report._stages(page, plt, {("block-500", "d"): g[("block-500", "d")]}, {"block-500": 0}, {"d"})
+    assert page.figs == []

@@ -442,6 +442,7 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
         share = {r["key"]: climb_share(store.timeseries(r["key"]), r["method"]) for rs in g.values() for r in rs}
         mech = mechanism_lines(g, order, share)
         page.table(mech, list(mech[0]) if mech else ["task"], csv_name="mechanism.csv")
+        _stages(page, plt, g, order, {v.id for v in variants if v.is_default})
         _releases(page, plt, store, g, order, {v.id for v in variants if v.is_default}, system)
     for key in sorted(g, key=_key_order(order)):
         rs = sorted(g[key], key=lambda r: r["seed"])
@@ -500,6 +501,45 @@ def write_report(store, out_dir: Path, system: Any = None) -> Path:
     page.h2("Provenance")
     page.raw(provenance_html(store, rows, system_id="octopus", default_config=defaults))
     return page.finish()
+
+
+#: the climb stages the stage figure shows, with their trial metrics (task.py)
+STAGE_METRICS = (("nose lift (Fig. 9e)", "crawler_load_share_lift"),
+                 ("rear lift (eq. 28)", "crawler_load_share_rear_lift"),
+                 ("drive on (S to L)", "crawler_load_share_drive_on"))
+
+
+def _stages(page: Any, plt, g, order, default_ids: set[str]) -> None:
+    """The crawlers' share of the normal load per stage of the default CLM climbs (each trial's least
+    mean over a stage's runs; the median over the trials, the range as a bar), the issue's 0.5 drawn."""
+    tasks = [key for key in sorted(g, key=_key_order(order))
+             if g[key][0]["method"] == "clm" and g[key][0].get("variant") in default_ids
+             and any(np.isfinite(r["metrics"].get(STAGE_METRICS[0][1], np.nan)) for r in g[key])]
+    if not tasks:
+        return
+    fig, ax = plt.subplots(figsize=(7.5, 3.4))
+    width = 0.8 / len(STAGE_METRICS)
+    for j, (name, metric) in enumerate(STAGE_METRICS):
+        for i, key in enumerate(tasks):
+            a = np.array([r["metrics"].get(metric, np.nan) for r in g[key]], float)
+            a = a[np.isfinite(a)]
+            if a.size:
+                x, med = i + (j - (len(STAGE_METRICS) - 1) / 2) * width, float(np.median(a))
+                ax.bar(x, med, width * 0.9, color=f"C{j}", label=name if i == 0 else None)
+                ax.plot([x, x], [a.min(), a.max()], color="k", lw=1)
+    ax.axhline(0.5, color="k", ls="--", lw=0.8, label="issue 28's > 0.5")
+    ax.set_xticks(range(len(tasks)))
+    ax.set_xticklabels([key[0] for key in tasks])
+    ax.set_ylim(0, 1)
+    ax.set_ylabel("crawlers' mean share of the load")
+    ax.legend(fontsize="small", ncol=2, loc="upper right")
+    fig.tight_layout()
+    page.h2("The crawlers' share of the load per climb stage (CLM default)")
+    page.p(html.escape("Each trial's least mean share over a stage of its climbs (the stored climb_stage), "
+                       "the median over the trials as a bar, their range as a line. In the rear lift the rear "
+                       "booms carry the rear (eq. 28) and the front booms press on the top (clm.climb_press); "
+                       "docs/octopus.md, 'The climb's stages'."))
+    page.figure(fig, "stages.png", "crawlers' share of the load per climb stage", dpi=80)
 
 
 def _releases(page: Any, plt, store, g, order, default_ids: set[str], system: Any) -> None:

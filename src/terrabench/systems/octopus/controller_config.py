@@ -244,10 +244,11 @@ class CLMConfig:
                                        "riser's face and the rear on the ground (:func:`.clm.face_centre`), the rear "
                                        "tips' x too, instead of about the rear contact with the rear tips held in "
                                        "{R}. Holds every tip within 2-7 cm through the nose lift of step-400 (9-23 cm "
-                                       "off), but the held rear footholds run out of reach in the rear lift and the "
-                                       "step's static margin falls 0.157 -> 0.074 m, the terraces' to ~0.005 m (10 "
-                                       "seeds; docs/octopus.md, 'The nose lift's pivot'): off, as the paper's 'we do "
-                                       "not try to keep the position of the endpoint of arms consistent'")
+                                       "off), but the held footholds run out of reach after the front is over and "
+                                       "the step's static margin falls 0.157 -> 0.074 m, terrace2-front's 0.094 -> "
+                                       "0.004 m (10 seeds; docs/octopus.md, 'The nose lift's pivot'): off, as the "
+                                       "paper's 'we do not try to keep the position of the endpoint of arms "
+                                       "consistent'")
     nose_climb: bool = param(True,
                              doc="the climb of the paper's Fig. 9 (:meth:`.clm.CLMController._climb_nose`): the "
                                  "front booms lift the nose toward climb_pitch while the crawlers drive into the "

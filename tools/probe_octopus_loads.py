@@ -2,11 +2,14 @@
 its vertical part), where it touches, the CLM climb's latches and the arms' tips and boom commands.
 
     python tools/probe_octopus_loads.py clm terrace2-front 1 48.5,49.5,52,54
+    python tools/probe_octopus_loads.py clm step-400 0 stages
 
 The evidence behind docs/octopus.md's reading of the crawlers' zero load share in the terrace
 climbs (a nose dropping onto its crawlers for one row; the robot held up on its arm tips
-between the floor and the second top, crawlers in the air). Evaluation only: it reads the
-task's contact pass, as the stored rows do.
+between the floor and the second top, crawlers in the air). With ``stages`` instead of instants:
+the mean vertical ground load of each group of geoms (tracks, front and rear flippers, front and
+rear arm tips) over each stage of CLM's first climb (the command's ``stage``: "The climb's stages").
+Evaluation only: it reads the task's contact pass, as the stored rows do.
 """
 
 from __future__ import annotations
@@ -26,9 +29,12 @@ def main() -> None:
     ap.add_argument("method", choices=SYSTEM.default_methods())
     ap.add_argument("instance")
     ap.add_argument("seed", type=int)
-    ap.add_argument("times", help="comma-separated instants (s)")
+    ap.add_argument("times", help="comma-separated instants (s), or 'stages'")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
     a = ap.parse_args()
+    if a.times == "stages":
+        stages(a)
+        return
     times = sorted(float(x) for x in a.times.split(","))
     specs = SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
                         overrides={**parse_overrides(a.set), "protocol.timeout": times[-1] + 1.0})
@@ -63,6 +69,45 @@ def main() -> None:
         obs, stop = ep.step(cmd)
     if todo:
         print(f"the trial stopped at {obs.t:.2f} s ({stop[0] if stop else '?'}), before {todo}")
+
+
+#: the geom groups of :func:`stages`, by name prefix (the first that matches)
+GROUPS = (("front tips", ("arm_LF", "arm_RF")), ("rear tips", ("arm_",)),
+          ("front flippers", ("flipper_LF", "flipper_RF")), ("rear flippers", ("flipper_",)), ("tracks", ("track_",)))
+
+
+def stages(a) -> None:
+    """Per stage of the first CLM climb: its span, mean pitch and each group's mean vertical load."""
+    from terrabench.systems.octopus.clm import STAGE_NAMES, WALK
+
+    spec = next(s for s in SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
+                                       overrides=parse_overrides(a.set)) if s.seed == a.seed)
+    _, task, ctl = SYSTEM.trial_parts(spec)
+    ep = Episode(task)
+    obs, stop = ep.begin()
+    m, d = ep.model, ep.data
+    group = {g: next((name for name, pre in GROUPS if m.geom(g).name.startswith(pre)), None) for g in range(m.ngeom)}
+    acc: dict = {}
+    while stop is None:
+        cmd = ctl(obs)
+        k = getattr(cmd, "stage", 0)
+        if k in STAGE_NAMES and k != max(STAGE_NAMES):  # the climb's stages, not the release
+            sel, rg, f, _ = task._contacts()
+            load = collections.defaultdict(float)
+            for i, (g, j) in enumerate(zip(rg.tolist(), sel.tolist())):
+                if group[g]:
+                    load[group[g]] += abs(float(f[i, 0]) * float(d.contact.frame[j, 2]))
+            row = acc.setdefault(k, {"t": [obs.t, obs.t], "pitch": [], **{name: [] for name, _ in GROUPS}})
+            row["t"][1] = obs.t
+            row["pitch"].append(obs.pitch)
+            for name, _ in GROUPS:
+                row[name].append(load[name])
+        elif acc and ctl.machine.state == WALK:
+            break  # the first climb is over
+        obs, stop = ep.step(cmd)
+    for k, row in sorted(acc.items()):
+        print(f"{STAGE_NAMES[k]:10s} {row['t'][0]:6.1f}-{row['t'][1]:6.1f} s, pitch {np.mean(row['pitch']):.2f} rad: "
+              + ", ".join(f"{name} {np.mean(row[name]):.0f} N" for name, _ in GROUPS))
 
 
 if __name__ == "__main__":

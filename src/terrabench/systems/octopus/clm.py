@@ -798,7 +798,8 @@ class CLMController(MachineController):
             self.over = True
             self.machine.note(obs.t, "climb", "climb", f"front pulley {pulley_bottom - top:.3f} m over the top: "
                               "front arms unload")
-        # eqs. 22-27 for every support: rotation by the pitch change about the rear contact, then travel
+        # eqs. 22-27 for every support: rotation by the pitch change about the rear contact (or the
+        # body's centre against the face, climb_face_pivot), then travel
         dth = obs.pitch - self.prev_pitch
         self.prev_pitch = obs.pitch
         piv = self._rear_pivot(obs)
@@ -826,7 +827,22 @@ class CLMController(MachineController):
                     # then rises to guard_pitch and the terraces fail 0/5 (docs/octopus.md, "Load share")
                     self.lifted[i] = True
                     self._lift_clear(obs, i, k, "climb: foothold out of range, lifted clear")
-        # flippers, eq. 29 (A' - dF) with a torque-limited lead
+        self._climb_flippers(obs, top, up)
+        # released on the top, not while the nose is up on the next riser (a short tread): the
+        # crawlers drive on up it (a riser below the flippers' reach) before the release
+        if self.s > self.s_release and up and obs.pitch < cfg.mount_pitch:
+            self.release_pitch = obs.pitch
+            # "up" is latched (H reached H_EST within lift_margin, or the front over the top with the
+            # body level): H itself may read below H_EST now, so the event states both
+            self.machine.go(obs.t, RELEASE, f"rear up (H = {h_rear:.3f} m, H_EST = {self.h_est:.3f} m), "
+                                            f"S = {self.s:.3f} m > {self.s_release:.2f} m")
+
+    def _climb_flippers(self, obs, top: float, up: bool) -> None:
+        """The nose climb's flippers, eq. 29 (A' - dF) with a torque-limited lead: the front ones wait
+        below the edge, come down while the nose is below ``climb_pitch`` and lie level on the top once
+        over; the rear ones push once the nose is up or the front over, and come back once the rear is
+        up (``top``: the top's height in {C}; ``up``: the rear-up latch)."""
+        cfg, c, r = self.cfg, self.cmd, self.robot
         # the front flipper tip clears the edge when, a pulley radius ahead of its pivot (the pulley
         # against the riser), its tip pulley's bottom is above the top
         pivot_z = r.pulley_x * math.sin(obs.pitch)
@@ -853,14 +869,6 @@ class CLMController(MachineController):
             elif obs.pitch > cfg.climb_pitch or self.over:
                 # the rear flippers push the rear up once the nose is up (before, they would pitch it down)
                 c.flip[f] = max(c.flip[f] - cfg.release_d_f, obs.q_flip[f] - cfg.flip_lead, cfg.flip_min)
-        # released on the top, not while the nose is up on the next riser (a short tread): the
-        # crawlers drive on up it (a riser below the flippers' reach) before the release
-        if self.s > self.s_release and up and obs.pitch < cfg.mount_pitch:
-            self.release_pitch = obs.pitch
-            # "up" is latched (H reached H_EST within lift_margin, or the front over the top with the
-            # body level): H itself may read below H_EST now, so the event states both
-            self.machine.go(obs.t, RELEASE, f"rear up (H = {h_rear:.3f} m, H_EST = {self.h_est:.3f} m), "
-                                            f"S = {self.s:.3f} m > {self.s_release:.2f} m")
 
     def _climb(self, obs) -> None:
         """Eqs. 28-29 with a vertical lift and the crawlers loaded (docs/assumptions-octopus.md).

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from terrabench.benchmark.store import ResultsStore
@@ -66,6 +67,10 @@ def test_clip_events_read_the_stored_controller_events():
               [50.0, "walk", "climb", "a second climb"]]
     ev = SYSTEM.clip_events({"info": {"events": events}, "metrics": {"sim_time": 60.0}}, {})
     assert ev == {"start": 0.0, "end": 60.0, "climb": 20.7, "over": 29.5, "release": 36.8, "walk_on": 38.9}
+    # the rear lift's end from the stored stages: the first drive-on row
+    series = {"t": np.array([20.6, 20.7, 29.5, 31.2, 31.3, 36.8]), "climb_stage": np.array([0, 1, 2, 3, 3, 4.0])}
+    ev = SYSTEM.clip_events({"info": {"events": events}, "metrics": {"sim_time": 60.0}}, series)
+    assert ev["rear_up"] == 31.2 and ev["end"] == 36.8
     ccm = [[6.2, "approach", "press", "riser"], [29.2, "push", "abort", "pitch"]]
     ev = SYSTEM.clip_events({"info": {"events": ccm, "tip_back": {"t": 29.0}}, "metrics": {"sim_time": 29.2}}, {})
     assert ev == {"start": 0.0, "end": 29.2, "press": 6.2, "abort": 29.2, "tipped_back": 29.0}

@@ -5,10 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from terrabench.benchmark.trial import TrialSpec
 from terrabench.systems.base import MethodInfo, System
 from terrabench.systems.octopus.ccm import CCMController
-from terrabench.systems.octopus.clm import CLMController
+from terrabench.systems.octopus.clm import DRIVE_ON, CLMController
 from terrabench.systems.octopus.config import OctopusConfig
 from terrabench.systems.octopus.task import ROUGH_LEVELS, OctopusTask
 
@@ -62,7 +64,9 @@ class OctopusSystem(System):
         walk -> climb, the climb of Fig. 9 starting), ``over`` (its front pulley over the top,
         the front arms unloading), ``release`` (its first climb -> release), ``walk_on`` (back to
         walking on the top); ``press`` and ``abort`` (CCM's first press at a riser and its
-        tip-back abort); ``tipped_back`` (the tip-back rule's crossing, from the trial's info)."""
+        tip-back abort); ``tipped_back`` (the tip-back rule's crossing, from the trial's info);
+        ``rear_up`` (the first stored row of a climb's drive on, the stored ``climb_stage``: the
+        rear lift of eq. 28 ended, so ``over`` to ``rear_up`` is the rear lift)."""
         ev = super().clip_events(row, series)
         info = (row.get("info") or {}) if hasattr(row, "get") else {}
         wanted = {"climb": lambda e: e[1] == "walk" and e[2] == "climb",
@@ -78,6 +82,10 @@ class OctopusSystem(System):
         tb = info.get("tip_back")
         if tb and "t" in tb:
             ev["tipped_back"] = float(tb["t"])
+        stage = np.asarray(series.get("climb_stage", ()), float)
+        up = np.flatnonzero(stage == DRIVE_ON)
+        if up.size:
+            ev["rear_up"] = float(np.asarray(series["t"], float)[up[0]])
         return ev
 
     def default_methods(self) -> list[str]:

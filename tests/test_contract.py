@@ -71,6 +71,25 @@ def test_same_spec_same_numbers(smoke_run):
 
 
 @pytest.mark.parametrize("sid", SYSTEM_IDS)
+def test_one_trials_spec_is_the_plans(sid):
+    """System.trial_spec(method, instance, seed): the spec plan() gives that trial among its seeds,
+    the same key (so the same stored row), and the plan's checks on a bad request."""
+    sysdef = system(sid)
+    first = sysdef.plan(**sysdef.smoke)[0]
+    overrides = sysdef.smoke.get("overrides")
+    specs = sysdef.plan(methods=[first.method], instances=[first.instance], seeds=3, overrides=overrides)
+    for spec in specs:
+        assert sysdef.trial_spec(first.method, first.instance, spec.seed, overrides).key == spec.key
+    if len(specs) < 3:  # a deterministic trial: the seeds it is not run with are no trial
+        with pytest.raises(ValueError, match="not seed 2"):
+            sysdef.trial_spec(first.method, first.instance, 2, overrides)
+    with pytest.raises(ValueError, match="nope"):
+        sysdef.trial_spec(first.method, "nope")
+    with pytest.raises(ValueError, match="seed must be"):
+        sysdef.trial_spec(first.method, first.instance, -1)
+
+
+@pytest.mark.parametrize("sid", SYSTEM_IDS)
 def test_bad_request_names_the_value_and_the_choices(sid):
     sysdef = system(sid)
     with pytest.raises(ValueError, match="nope.*valid"):

@@ -32,9 +32,7 @@ def main() -> None:
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
     a = ap.parse_args()
     system = get_system(a.system)
-    specs = system.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
-                        overrides={**parse_overrides(a.set), "protocol.timeout": a.t1})
-    spec = next(s for s in specs if s.seed == a.seed)
+    spec = system.trial_spec(a.method, a.instance, a.seed, {**parse_overrides(a.set), "protocol.timeout": a.t1})
     _, task, ctl = system.trial_parts(spec)
     i = ARMS.index(a.arm)
     ep = Episode(task)

@@ -26,8 +26,7 @@ from terrabench.systems.octopus.scenarios import SYSTEM
 
 def drifts(job: tuple[str, int, bool]) -> tuple[str, int, bool, dict]:
     instance, seed, pivot = job
-    spec = next(s for s in SYSTEM.plan(methods=["clm"], instances=[instance], seeds=seed + 1,
-                                       overrides={"clm.climb_face_pivot": pivot}) if s.seed == seed)
+    spec = SYSTEM.trial_spec("clm", instance, seed, {"clm.climb_face_pivot": pivot})
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()

@@ -36,9 +36,8 @@ def main() -> None:
         stages(a)
         return
     times = sorted(float(x) for x in a.times.split(","))
-    specs = SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
-                        overrides={**parse_overrides(a.set), "protocol.timeout": times[-1] + 1.0})
-    spec = next(s for s in specs if s.seed == a.seed)
+    spec = SYSTEM.trial_spec(a.method, a.instance, a.seed,
+                             {**parse_overrides(a.set), "protocol.timeout": times[-1] + 1.0})
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()
@@ -80,8 +79,7 @@ def stages(a) -> None:
     """Per stage of the first CLM climb: its span, mean pitch and each group's mean vertical load."""
     from terrabench.systems.octopus.clm import STAGE_NAMES, WALK
 
-    spec = next(s for s in SYSTEM.plan(methods=[a.method], instances=[a.instance], seeds=a.seed + 1,
-                                       overrides=parse_overrides(a.set)) if s.seed == a.seed)
+    spec = SYSTEM.trial_spec(a.method, a.instance, a.seed, parse_overrides(a.set))
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()

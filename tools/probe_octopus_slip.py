@@ -26,9 +26,7 @@ def main() -> None:
     ap.add_argument("timeout", type=float, help="simulated seconds")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="config override")
     a = ap.parse_args()
-    specs = SYSTEM.plan(methods=["clm"], instances=[a.instance], seeds=a.seed + 1,
-                        overrides={**parse_overrides(a.set), "protocol.timeout": a.timeout})
-    spec = next(s for s in specs if s.seed == a.seed)
+    spec = SYSTEM.trial_spec("clm", a.instance, a.seed, {**parse_overrides(a.set), "protocol.timeout": a.timeout})
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()

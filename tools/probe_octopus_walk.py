@@ -34,8 +34,7 @@ def main() -> None:
     for kv in a.set:
         k, _, v = kv.partition("=")
         overrides[k] = json.loads(v)
-    specs = SYSTEM.plan(methods=["clm"], instances=[a.instance], seeds=a.seed + 1, overrides=overrides or None)
-    spec = next(s for s in specs if s.seed == a.seed)
+    spec = SYSTEM.trial_spec("clm", a.instance, a.seed, overrides or None)
     _, task, ctl = SYSTEM.trial_parts(spec)
 
     ticks: list[tuple[float, bool, str, str]] = []   # walking ticks: (t, stopped, out arm, moving arm)

@@ -16,9 +16,7 @@ from terrabench.systems.octopus.task import TIP_BACK_HOLD, TURN_OVER_PITCH, Octo
 
 
 def _run(method: str, instance: str, seed: int = 0, **overrides):
-    spec = [s for s in SYSTEM.plan(methods=[method], instances=[instance], seeds=seed + 1, overrides=overrides)
-            if s.seed == seed][0]
-    return SYSTEM.run_trial(spec)
+    return SYSTEM.run_trial(SYSTEM.trial_spec(method, instance, seed, overrides))
 
 
 def _events(r) -> list[tuple[float, str, str, str]]:

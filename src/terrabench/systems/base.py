@@ -309,6 +309,21 @@ class System:
 
         return plan_specs(self, methods=methods, instances=instances, group=group, seeds=seeds, overrides=overrides)
 
+    def trial_spec(self, method: str, instance: str, seed: int = 0,
+                   overrides: Mapping[str, Any] | None = None) -> TrialSpec:
+        """The spec of one trial (``method`` on ``instance``, ``seed``): the one :meth:`plan` gives
+        for it among seeds 0..seed, checked the same way (for a probe, a study or a test that runs
+        or steps one trial). ValueError for a seed the trial is not run with (a deterministic one
+        runs seed 0 only, :meth:`seeds_for`)."""
+        if not isinstance(seed, int) or seed < 0:
+            raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+        specs = self.plan(methods=[method], instances=[instance], seeds=seed + 1, overrides=overrides)
+        for s in specs:
+            if s.seed == seed:
+                return s
+        raise ValueError(f"{self.id}: {method} on {instance} runs with seed(s) {sorted({s.seed for s in specs})}, "
+                         f"not seed {seed}")
+
     def select_instances(self, ids: Sequence[str]) -> list[str]:
         """Validate user-given instance ids (default: members of ``instances(None)``)."""
         from terrabench.benchmark.plan import split_ids

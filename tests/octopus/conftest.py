@@ -1,4 +1,4 @@
-"""Fixtures the OCTOPUS tests share: a CLM episode stepped a few seconds into step-400."""
+"""Fixtures the OCTOPUS tests share: a CLM episode begun, or stepped a few seconds, on step-400."""
 
 import pytest
 
@@ -6,22 +6,32 @@ from terrabench.sim.episode import Episode
 from terrabench.systems.octopus.scenarios import SYSTEM
 
 
+def begin(method: str = "clm", overrides: dict | None = None):
+    """An episode of ``method`` on step-400 (seed 0, a 30 s limit unless ``overrides`` say), begun:
+    (task, controller, episode, first observation, stop)."""
+    spec = SYSTEM.trial_spec(method, "step-400", 0, {"protocol.timeout": 30.0, **(overrides or {})})
+    _, task, ctl = SYSTEM.trial_parts(spec)
+    ep = Episode(task)
+    obs, stop = ep.begin()
+    return task, ctl, ep, obs, stop
+
+
 def step_in(seconds: float = 3.0, method: str = "clm", overrides: dict | None = None):
     """An episode on step-400 stepped ``seconds`` in (arms placed, tracks and tips on the ground):
     (task, controller, episode, last observation, last command)."""
-    spec = SYSTEM.plan(methods=[method], instances=["step-400"], seeds=1,
-                       overrides={"protocol.timeout": 30.0, **(overrides or {})})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, stop = ep.begin()
+    task, ctl, ep, obs, stop = begin(method, overrides)
     cmd = None
     while obs.t < seconds and stop is None:
         cmd = ctl(obs)
         obs, stop = ep.step(cmd)
     assert stop is None
     return task, ctl, ep, obs, cmd
+
+
+@pytest.fixture
+def octopus_begin():
+    """:func:`begin`, for a test that steps its own episode."""
+    return begin
 
 
 @pytest.fixture

@@ -152,18 +152,10 @@ def test_bad_input():
         SYSTEM.plan(seeds=0)
 
 
-def test_clm_lift_raises_chassis_vertically():
+def test_clm_lift_raises_chassis_vertically(octopus_begin):
     """The hoist (``clm.nose_climb=false``): tips on the ground, all tip targets pushed straight down:
     the chassis rises, it does not slide back."""
-    from terrabench.sim.episode import Episode
-
-    spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1,
-                       overrides={"protocol.timeout": 40.0, "clm.nose_climb": False})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, stop = ep.begin()
+    task, ctl, ep, obs, stop = octopus_begin("clm", {"protocol.timeout": 40.0, "clm.nose_climb": False})
     start = None
     while stop is None:
         obs, stop = ep.step(ctl(obs))

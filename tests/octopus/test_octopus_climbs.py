@@ -460,21 +460,16 @@ def test_the_face_centre_holds_the_front_pulley_on_the_face_and_the_rear_on_the_
         assert abs(turned(front, rear, p, d)[0] - level(*front, p)[0]) == pytest.approx(d * rise, rel=1e-3)
 
 
-def test_the_face_centre_holds_the_tips_through_the_nose_lift():
+def test_the_face_centre_holds_the_tips_through_the_nose_lift(octopus_begin):
     """step-400 seed 0, from the climb's start to the front over the top (the nose lift, Fig. 9e):
     turning the footholds about the rear contact (the default) lets every tip drift 10-21 cm with
     the body; about the body's instantaneous centre (``clm.climb_face_pivot``) each stays within
     6 cm (docs/octopus.md, "The nose lift's pivot")."""
-    from terrabench.sim.episode import Episode
     from terrabench.systems.octopus.clm import CLIMB
     from terrabench.systems.octopus.robot import ARMS, Names
 
     def drift(face: bool) -> list[float]:
-        spec = SYSTEM.plan(methods=["clm"], instances=["step-400"], seeds=1,
-                           overrides={"clm.climb_face_pivot": face})[0]
-        _, task, ctl = SYSTEM.trial_parts(spec)
-        ep = Episode(task)
-        obs, stop = ep.begin()
+        _, ctl, ep, obs, stop = octopus_begin("clm", {"protocol.timeout": 40.0, "clm.climb_face_pivot": face})
         tips = [ep.model.body(Names.tip(k)).id for k in ARMS]
         start = None
         while stop is None and obs.t < 40.0:

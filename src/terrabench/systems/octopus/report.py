@@ -68,6 +68,12 @@ def group(rows: list[dict[str, Any]]) -> dict[tuple[str, str], list[dict[str, An
     return out
 
 
+def finite_metric(rs: list[dict[str, Any]], name: str) -> np.ndarray:
+    """The finite values of metric ``name`` over the trials ``rs`` (a trial without it: left out)."""
+    a = np.array([r["metrics"].get(name, np.nan) for r in rs], float)
+    return a[np.isfinite(a)]
+
+
 def task_summary(rs: list[dict[str, Any]]) -> dict[str, Any]:
     """Successes, statuses and the extreme figures over one (task, variant)'s trials."""
     m = lambda name: np.array([r["metrics"].get(name, np.nan) for r in rs], float)  # noqa: E731
@@ -251,8 +257,7 @@ def mechanism_lines(g, order, share: dict[str, dict[str, float]] | None = None) 
                                                                                              rs[0]["method"])),
                                 "n": len(rs)}
         for metric, col, _ in MECHANISM:
-            a = np.array([r["metrics"].get(metric, np.nan) for r in rs], float)
-            a = a[np.isfinite(a)]
+            a = finite_metric(rs, metric)
             line[col] = f"{np.median(a):.3f} ({a.min():.3f}-{a.max():.3f})" if a.size else "-"
         for name, col in SHARE_SERIES if share is not None else ():
             a = np.array([share.get(r["key"], {}).get(name, np.nan) for r in rs], float)
@@ -514,15 +519,14 @@ def _stages(page: Any, plt, g, order, default_ids: set[str]) -> None:
     mean over a stage's runs; the median over the trials, the range as a bar), the issue's 0.5 drawn."""
     tasks = [key for key in sorted(g, key=_key_order(order))
              if g[key][0]["method"] == "clm" and g[key][0].get("variant") in default_ids
-             and any(np.isfinite(r["metrics"].get(STAGE_METRICS[0][1], np.nan)) for r in g[key])]
+             and finite_metric(g[key], STAGE_METRICS[0][1]).size]
     if not tasks:
         return
     fig, ax = plt.subplots(figsize=(7.5, 3.4))
     width = 0.8 / len(STAGE_METRICS)
     for j, (name, metric) in enumerate(STAGE_METRICS):
         for i, key in enumerate(tasks):
-            a = np.array([r["metrics"].get(metric, np.nan) for r in g[key]], float)
-            a = a[np.isfinite(a)]
+            a = finite_metric(g[key], metric)
             if a.size:
                 x, med = i + (j - (len(STAGE_METRICS) - 1) / 2) * width, float(np.median(a))
                 ax.bar(x, med, width * 0.9, color=f"C{j}", label=name if i == 0 else None)

@@ -992,7 +992,7 @@ class CLMController(MachineController):
             i = self._transfer(obs)
             if i < 0 and not self.queue and not any(self.phase.values()) and not any(self.landing):
                 self.machine.go(obs.t, WALK, "four arms placed")
-            c.mode, c.moving_arm, c.stage = self.state, i, 0
+            c.mode, c.moving_arm, c.stage = self.state, i, self._stage()
             self._lead(obs)
             return c
         if state == WALK:
@@ -1063,7 +1063,7 @@ class CLMController(MachineController):
                        f"a front flipper steep ({qf + obs.pitch:.2f} rad) and still" if steep else
                        f"nose up {obs.pitch:.2f} rad")
                 self.machine.go(obs.t, CLIMB, f"up-step, H_EST = {self.h_est:.3f} m, {why}")
-            c.mode, c.moving_arm, c.stage = self.state, i, LIFT if self.state == CLIMB else 0
+            c.mode, c.moving_arm, c.stage = self.state, i, self._stage()
             self._lead(obs)
             return c
         # CLIMB / RELEASE: eqs. 28-29 (lift, drive, release); see _climb
@@ -1073,7 +1073,7 @@ class CLMController(MachineController):
         return c
 
     def _stage(self) -> int:
-        """The climb's stage after this tick's climb step (:data:`STAGE_NAMES`; 0 once walking)."""
+        """The climb's stage after this tick's step (:data:`STAGE_NAMES`; 0 outside a climb)."""
         if self.state == RELEASE:
             return RELEASING
         if self.state != CLIMB:

@@ -242,6 +242,18 @@ def multiple_of(period: str, step: str, why: str = "") -> Relation:
     return Relation((period, step), holds, "{0} must be a whole number of physics steps ({1})", why)
 
 
+def clock_relations(check: str = "protocol.check_period", control: str = "protocol.control_period",
+                    log: str = "protocol.log_period", step: str = "physics.timestep") -> tuple[Relation, ...]:
+    """The episode loop's clock, the same for every system (``sim.episode``): the control period
+    is a whole number of physics steps, and the slow check and the stored series run at control
+    instants, so neither is faster than the controller."""
+    return (
+        multiple_of(control, step),
+        ge(check, control, "checks run at control instants"),
+        ge(log, control, "rows are stored at control instants"),
+    )
+
+
 def relations_of(cfg: Any, prefix: str = "") -> list[tuple[str, Relation]]:
     """Every (prefix, relation) declared by ``cfg`` and its nested sections (prefix ends in '.')."""
     out = [(prefix, r) for r in getattr(type(cfg), "relations", ())]

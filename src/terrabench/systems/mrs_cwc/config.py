@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from terrabench.config import Relation, check_fields, ge, le, multiple_of, param
+from terrabench.config import Relation, check_fields, clock_relations, le, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.mrs_cwc.control import (
     DriveConfig,
@@ -69,9 +69,7 @@ class MRSConfig:
     relations: ClassVar[tuple[Relation, ...]] = (
         le("stiffness.k_low", "stiffness.k_high", "k_low is the soft stiffness; a stiffer one needs k_high raised too"),
         le("stiffness.latch_off", "stiffness.latch_on", "the latch releases below where it latches on"),
-        multiple_of("protocol.control_period", "physics.timestep"),
-        ge("protocol.divergence_check_period", "protocol.control_period", "checks run at control instants"),
-        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+        *clock_relations(check="protocol.divergence_check_period"),
     )
 
     physics: PhysicsConfig = field(default_factory=PhysicsConfig)

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from terrabench.config import Relation, check_fields, ge, le, multiple_of, ordered, param
+from terrabench.config import Relation, check_fields, clock_relations, le, ordered, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.octopus.controller_config import CCMConfig, CLMConfig
 from terrabench.systems.octopus.robot import RobotConfig
@@ -90,9 +90,7 @@ class OctopusConfig:
     relations: ClassVar[tuple[Relation, ...]] = (
         *(ordered(f"robot.{j}_range", strict=True, why="a joint range is (lower, upper)")
           for j in ("flipper", "swing", "boom", "elbow")),
-        multiple_of("protocol.control_period", "physics.timestep"),
-        ge("protocol.check_period", "protocol.control_period", "checks run at control instants"),
-        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+        *clock_relations(),
     )
 
     physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.004, iterations=30))

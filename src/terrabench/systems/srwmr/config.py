@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from terrabench.config import Relation, check_fields, ge, multiple_of, ordered, param
+from terrabench.config import Relation, check_fields, clock_relations, ordered, param
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
 from terrabench.systems.srwmr.ik import IKLimits
@@ -108,9 +108,7 @@ class SRWMRConfig:
     relations: ClassVar[tuple[Relation, ...]] = (
         ordered("robot.rocker_range", strict=True, why="a joint range is (lower, upper)"),
         ordered("limits.delta_range", strict=True, why="a range is (lower, upper)"),
-        multiple_of("protocol.control_period", "physics.timestep"),
-        ge("protocol.check_period", "protocol.control_period", "checks run at control instants"),
-        ge("protocol.log_period", "protocol.control_period", "rows are stored at control instants"),
+        *clock_relations(),
     )
 
     physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.0005, iterations=30))

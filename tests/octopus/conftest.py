@@ -1,4 +1,5 @@
-"""Fixtures the OCTOPUS tests share: a CLM episode begun, or stepped a few seconds, on step-400."""
+"""Fixtures the OCTOPUS tests share: an episode begun (step-400 unless said), or CLM stepped a few
+seconds on step-400."""
 
 import pytest
 
@@ -6,10 +7,10 @@ from terrabench.sim.episode import Episode
 from terrabench.systems.octopus.scenarios import SYSTEM
 
 
-def begin(method: str = "clm", overrides: dict | None = None):
-    """An episode of ``method`` on step-400 (seed 0, a 30 s limit unless ``overrides`` say), begun:
-    (task, controller, episode, first observation, stop)."""
-    spec = SYSTEM.trial_spec(method, "step-400", 0, {"protocol.timeout": 30.0, **(overrides or {})})
+def begin(method: str = "clm", overrides: dict | None = None, instance: str = "step-400"):
+    """An episode of ``method`` on ``instance`` (seed 0, a 30 s limit unless ``overrides`` say),
+    begun: (task, controller, episode, first observation, stop)."""
+    spec = SYSTEM.trial_spec(method, instance, 0, {"protocol.timeout": 30.0, **(overrides or {})})
     _, task, ctl = SYSTEM.trial_parts(spec)
     ep = Episode(task)
     obs, stop = ep.begin()

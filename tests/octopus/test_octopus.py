@@ -186,18 +186,9 @@ def test_steer_turns_back_to_the_start_heading():
     assert rules.steer(0.0, 0.1, 0.2, 0.03) == (pytest.approx(0.02), pytest.approx(-0.02))  # in place
 
 
-def test_gyro_heading_follows_the_true_yaw():
+def test_gyro_heading_follows_the_true_yaw(octopus_begin):
     """The integrated gyro yaw rate (the heading channel) tracks the simulator's yaw."""
-    import math
-
-    from terrabench.sim.episode import Episode
-
-    spec = SYSTEM.plan(methods=["clm"], instances=["block-500"], seeds=1, overrides={"protocol.timeout": 24.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, stop = ep.begin()
+    task, ctl, ep, obs, stop = octopus_begin("clm", {"protocol.timeout": 24.0}, "block-500")
     worst = 0.0
     while stop is None:
         obs, stop = ep.step(ctl(obs))

@@ -27,6 +27,15 @@ from terrabench.systems.srwmr.task import COLUMNS
 CFG = RobotConfig()
 
 
+def _begun(method: str, instance: str):
+    """(task, controller, episode, first observation) of ``method`` on ``instance``, seed 0, a 1 s
+    limit: an episode a test steps itself."""
+    _, task, ctl = SYSTEM.trial_parts(SYSTEM.trial_spec(method, instance, 0, {"protocol.timeout": 1.0}))
+    ep = Episode(task)
+    obs, _ = ep.begin()
+    return task, ctl, ep, obs
+
+
 def test_geometry_pair_is_geometry_twice_bitwise():
     rng = np.random.default_rng(1)
     for _ in range(500):
@@ -118,12 +127,7 @@ def test_build_qp_equals_the_row_by_row_reference_bitwise():
 
 
 def test_row_fills_every_column_from_its_source():
-    spec = SYSTEM.plan(methods=["wrm"], instances=["t1-loose"], overrides={"protocol.timeout": 1.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, _ = ep.begin()
+    task, ctl, ep, obs = _begun("wrm", "t1-loose")
     for _ in range(30):
         cmd = ctl(obs)
         obs, _ = ep.step(cmd)
@@ -143,12 +147,7 @@ def test_row_fills_every_column_from_its_source():
 def test_compiled_observation_read_equals_the_numpy_form_bitwise():
     from terrabench.systems.srwmr.sensing import FIELDS, Observation
 
-    spec = SYSTEM.plan(methods=["rclm"], instances=["t3-rclm"], overrides={"protocol.timeout": 1.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, _ = ep.begin()
+    task, ctl, ep, obs = _begun("rclm", "t3-rclm")
     for noise in (5.0, 0.0):
         fast = Observation(task.model, task.data, np.random.default_rng(5), load_noise=noise)
         ref = Observation(task.model, task.data, np.random.default_rng(5), load_noise=noise)
@@ -162,12 +161,7 @@ def test_compiled_observation_read_equals_the_numpy_form_bitwise():
 
 
 def test_compiled_log_row_equals_the_numpy_form_bitwise():
-    spec = SYSTEM.plan(methods=["rclm"], instances=["t3-rclm"], overrides={"protocol.timeout": 1.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, _ = ep.begin()
+    task, ctl, ep, obs = _begun("rclm", "t3-rclm")
     for _ in range(40):
         cmd = ctl(obs)
         assert np.array_equal(task.row(obs, cmd), row_reference(task, obs, cmd), equal_nan=True)
@@ -211,12 +205,7 @@ def test_compiled_power_equals_numpy_sum_bitwise():
         n = int(rng.integers(1, 129))  # numpy's two regimes the kernel covers: < 8, <= 128
         f, v = rng.normal(size=n) * 10 ** rng.uniform(-3, 3, n), rng.normal(size=n)
         assert _abs_power_kernel(f, v) == np.abs(f * v).sum()
-    spec = SYSTEM.plan(methods=["wrm"], instances=["t1-loose"], overrides={"protocol.timeout": 1.0})[0]
-    cfg = SYSTEM.load_config(spec.config)
-    task = SYSTEM.make_task(spec, cfg)
-    ctl = SYSTEM.make_controller(spec, cfg, task)
-    ep = Episode(task)
-    obs, _ = ep.begin()
+    task, ctl, ep, obs = _begun("wrm", "t1-loose")
     for _ in range(30):
         obs, _ = ep.step(ctl(obs))
     d = task.data

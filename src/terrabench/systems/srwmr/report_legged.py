@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from terrabench.systems.srwmr.legged import position
-from terrabench.systems.srwmr.robot import WHEELS
+from terrabench.systems.srwmr.robot import WHEEL_SIDE, WHEELS
 
 #: the paper's wheel-load figures while lifted [S Task 6 / Task 7]: W_diff (N) and W_fmr (N) by the
 #: position lifted (None: not stated); nominal wheel load ~380 N [S]
@@ -15,6 +15,11 @@ PAPER_LOADS = {
     "t7-stairs": {"front": (1300, 640), "middle": (100, 100), "rear": (1189, 612)},
 }
 PAPER_NOMINAL = {"t6-bricks": "wheel load ~380 N", "t7-stairs": "W_fmr ~100 N, W_diff ~200 N (hard stairs)"}
+#: the largest share of the wheel loads the lifted side can have carried in the paper's single-wheel
+#: lifts [S Task 6]: the lifted wheel at 0 and the other end "nearly suspended" leave the side's load
+#: on its middle wheel, which W_diff bounds (826 / 1050 N of ~2,280 N = 6 x 380 N [S]); the rest is on
+#: the other side: "the CoM shifting to the side of the unlifted wheel" [S sec. 3.1]
+PAPER_SIDE_SHARE = {("t6-bricks", "front"): "<= ~0.36-0.40", ("t6-bricks", "rear"): "<= ~0.46-0.50"}
 #: [S] Tasks 12 and 13: body-slip range during the lifted roll and energy EC (kJ) per trial
 PAPER_ROLL = {
     ("t12-lift100", "swlm"): ("0.01-0.24", 39.6), ("t12-lift150", "swlm"): ("0.01-0.24", 43.9),
@@ -78,6 +83,8 @@ def load_lines(rows, store) -> list[dict]:
         for sp in lift_spans(r["info"].get("legged", [])):
             up = (t >= sp.get("t_up", np.inf)) & (t <= sp.get("t_down", -np.inf))
             pdiff, pfmr = PAPER_LOADS[r["instance"]][sp["pos"]]
+            lifted = sp["lift"].split("+")
+            side = side_share(W, WHEEL_SIDE[WHEELS.index(lifted[0])]) if len(lifted) == 1 and up.any() else None
             lines.append({
                 "task": r["instance"], "mode": r["method"], "seed": r["seed"], "lifted": sp["lift"],
                 "lift": sp.get("lift_note", "not reached"),
@@ -87,8 +94,19 @@ def load_lines(rows, store) -> list[dict]:
                 "W_fmr max N (up)": float(fm[up].max()) if up.any() else float("nan"),
                 "W_max N (up)": float(W[up].max()) if up.any() else float("nan"),
                 "paper W_diff N": pdiff, "paper W_fmr N": pfmr if pfmr is not None else "",
+                "lifted side's share of the load (up, median)": float(np.median(side[up])) if side is not None else "",
+                "paper: lifted side's share": PAPER_SIDE_SHARE.get((r["instance"], sp["pos"]), ""),
             })
     return lines
+
+
+def side_share(W: np.ndarray, side: str) -> np.ndarray:
+    """Per row, the share of the six wheel loads ``W`` (n, 6) that the wheels of ``side`` ("L" or
+    "R") carry (nan where no wheel carries any)."""
+    on = np.array([s == side for s in WHEEL_SIDE])
+    total = W.sum(1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(total > 0.0, W[:, on].sum(1) / total, np.nan)
 
 
 def roll_lines(rows, store) -> list[dict]:
@@ -138,7 +156,10 @@ def report_sections(page, store, rows, slug: str, plt) -> None:
            "F/T estimates the supervisor reads (they include a wheel on a rigid step); the T12/T13 PC = DP / W uses "
            "the soil's own forces. W_diff = "
            "W_max - W_min, W_fmr = max(W_max - mean, mean - W_min) over all six wheels (a lifted wheel counts "
-           "as 0). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 W_fmr <= 700 N [S].")
+           "as 0). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 W_fmr <= 700 N [S]. The lifted side's "
+           "share (SWLM) is its three wheels' part of the six loads while the wheel is up; the paper's bound follows "
+           "from its W_diff with the far wheel 'nearly suspended' (Task 6), the rest on the other side: 'the CoM "
+           "shifting to the side of the unlifted wheel' (sec. 3.1).")
     ll = load_lines(leg, store)
     if ll:
         page.table(ll, list(ll[0]), csv_name=f"legged_loads{slug}.csv")

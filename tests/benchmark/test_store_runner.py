@@ -55,6 +55,26 @@ def test_rerun_skips_finished_trials(tmp_path):
         assert len(st.rows()) == 2
 
 
+def test_a_rerun_says_which_stored_rows_other_code_made(tmp_path):
+    """A key names the spec, not the code: a re-run reuses a stored row whatever made it, and says
+    how many of those another terrabench (a different package digest, or none recorded) made."""
+    from terrabench.benchmark.worker import code_fingerprint
+
+    a, b, c = quick_specs(("A-01", "A-02", "B-02"))
+    with ResultsStore(tmp_path / "r.duckdb") as st:
+        first = run_trials([a], st, workers=1)
+        assert first.finished == 1 and st.rows()[0]["info"]["host"]["code"] == code_fingerprint()
+        st.write(b, TrialResult("timeout", info={"host": {"code": "0123456789abcdef"}}))  # another checkout
+        st.write(c, TrialResult("timeout"))  # stored before the digest was recorded
+        assert st.code_of([a.key, b.key, c.key]) == {a.key: code_fingerprint(), b.key: "0123456789abcdef",
+                                                     c.key: None}
+        again = run_trials([a, b, c], st, workers=1)
+        assert (again.skipped, again.finished, again.other_code) == (3, 0, 2)
+        assert "2 of the stored trials were made by other terrabench code" in again.describe()
+        assert run_trials([a], st, workers=1).other_code == 0
+    assert len(code_fingerprint()) == 16 and code_fingerprint() == code_fingerprint()
+
+
 def test_a_failing_trial_becomes_an_error_row(tmp_path, monkeypatch):
     bad = TrialSpec("mrs-cwc", "mrs-cwc/benchmark-v1", "cwc-tdt", "A-01", 0, {"physics": {"nonsense": 1}})
     res = execute(bad)

@@ -40,10 +40,10 @@ from terrabench.benchmark.pool import run_pool
 from terrabench.benchmark.ray_backend import run_ray
 from terrabench.benchmark.store import ResultsStore
 from terrabench.benchmark.trial import TrialResult, TrialSpec
-from terrabench.benchmark.worker import default_workers, execute, host_fingerprint
+from terrabench.benchmark.worker import code_fingerprint, default_workers, execute, host_fingerprint
 
-__all__ = ["BACKENDS", "RunSummary", "default_wall_budget", "default_workers", "execute", "host_fingerprint",
-           "run_trials", "sim_timeout"]
+__all__ = ["BACKENDS", "RunSummary", "code_fingerprint", "default_wall_budget", "default_workers", "execute",
+           "host_fingerprint", "run_trials", "sim_timeout"]
 
 BACKENDS = ("local", "ray")
 
@@ -73,6 +73,9 @@ class RunSummary:
         worker_deaths: worker processes that died while holding a trial.
         hung: trials killed for exceeding their wall-clock budget (stored as ``error``).
         rerun_errors: ``error`` rows from earlier runs that this run ran again.
+        other_code: of the ``skipped`` trials, those whose stored row another terrabench code made
+            (its ``info.host.code`` differs from :func:`~terrabench.benchmark.worker.code_fingerprint`
+            here, or was not recorded): reused as stored, since a key names the spec, not the code.
         errors: reason -> count of this run's ``error`` rows (``"worker died: signal 9
             (SIGKILL)"``, ``"hung: ..."``, ``"ValueError: ..."``).
 
@@ -91,6 +94,7 @@ class RunSummary:
     worker_deaths: int = 0
     hung: int = 0
     rerun_errors: int = 0
+    other_code: int = 0
     errors: dict[str, int] = field(default_factory=dict)
 
     @property
@@ -115,6 +119,9 @@ class RunSummary:
             parts.append(f"{self.faults} error ({reasons})")
         if self.rerun_errors:
             parts.append(f"{self.rerun_errors} error rows from earlier runs retried")
+        if self.other_code:
+            parts.append(f"{self.other_code} of the stored trials were made by other terrabench code (another "
+                         f"checkout or version) and are reused as stored; a new --store runs them with this code")
         if self.interrupted:
             parts.append("interrupted")
         return "; ".join(parts)
@@ -252,6 +259,10 @@ def run_trials(
     todo = [s for s in unique if s.key not in done]
     summary = RunSummary(requested=len(unique), skipped=len(unique) - len(todo))
     summary.rerun_errors = len(store.error_keys([s.key for s in todo])) if todo else 0
+    if summary.skipped:
+        here = code_fingerprint()
+        made_by = store.code_of(s.key for s in unique if s.key in done)
+        summary.other_code = sum(1 for code in made_by.values() if code != here)
     if on_start:
         on_start(len(todo))
     t0 = time.perf_counter()

@@ -218,6 +218,14 @@ class ResultsStore:
         done = {r[0] for r in self.con.execute(sql).fetchall()}
         return done if keys is None else done & set(keys)
 
+    def code_of(self, keys: Iterable[str]) -> dict[str, str | None]:
+        """The code fingerprint each stored row of ``keys`` was made by (``info.host.code``,
+        :func:`terrabench.benchmark.worker.code_fingerprint`; ``None`` for rows stored before it
+        was recorded, or an ``error`` row without a host)."""
+        wanted = set(keys)
+        rows = self.con.execute("SELECT key, json_extract_string(info, '$.host.code') FROM trials").fetchall()
+        return {k: c for k, c in rows if k in wanted}
+
     def error_keys(self, keys: Iterable[str] | None = None) -> set[str]:
         """Keys of the stored rows with status ``error`` (restricted to ``keys`` if given)."""
         found = {r[0] for r in self.con.execute("SELECT key FROM trials WHERE status = 'error'").fetchall()}

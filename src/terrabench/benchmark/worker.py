@@ -72,7 +72,26 @@ def host_fingerprint() -> dict[str, Any]:
     simd = [f for f in getattr(um, "__cpu_dispatch__", []) if features.get(f)]
     return {"machine": platform.machine(), "python": platform.python_version(), "numpy": np.__version__,
             "mujoco": mujoco.__version__, "libc": "-".join(platform.libc_ver()), "numpy_simd": simd,
-            **portable.state()}
+            "code": code_fingerprint(), **portable.state()}
+
+
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """SHA-256 (hex, 16 chars) of the terrabench package that runs here: every file of the package
+    (sources and the data copied into it), by path relative to the package, compiled caches left
+    out. The package version names a release, not a working tree; this names the code, so a store
+    can tell the rows another checkout or an older install left in it (``RunSummary.other_code``)."""
+    import hashlib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    files = (p for p in root.rglob("*") if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".pyc")
+    for path in sorted(files, key=lambda p: p.relative_to(root).as_posix()):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(b"\0")
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
 
 
 def default_workers() -> int:

@@ -90,7 +90,16 @@ def test_a_tiny_run_prints_trials_and_the_paper_row_then_resumes(tmp_path):
     assert r.exit_code == 0, r.output
     assert "A-01" in r.output and "(96.0)" in r.output and "(74.0)" in r.output
     r = invoke(*args)
-    assert "2 already stored, 0 run" in r.text
+    assert "2 already stored, 0 run" in r.text and "other terrabench code" not in r.text
+    import duckdb  # the rows as another checkout would have left them: a different code digest
+
+    with duckdb.connect(store) as con:
+        con.execute("UPDATE trials SET info = json_merge_patch(info, '{\"host\": {\"code\": \"another\"}}')")
+    r = invoke(*args)
+    assert "2 of the stored trials were made by other terrabench code" in " ".join(r.text.split())
+    r = invoke(*args, "--rerun-other-code")
+    assert "0 already stored, 2 run" in r.text and "2 stored trials made by other terrabench code run again" in (
+        " ".join(r.text.split()))
     out = tmp_path / "a01.png"
     r = invoke("terrain", "show", "A-01", "--out", str(out), "--store", store)
     assert r.exit_code == 0 and "1 stored path" in r.text

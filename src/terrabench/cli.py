@@ -208,6 +208,8 @@ def run(
     vary: list[str] = typer.Option([], "--vary", help="run every value of a setting, KEY=V1,V2,... (repeatable: "
                                    "every combination); the variants side by side at the end, as `compare`"),
     quiet: bool = typer.Option(False, help="no per-trial table"),
+    rerun_other_code: bool = typer.Option(False, help="run again the stored trials another terrabench code "
+                                          "made (a different package digest): their rows are replaced"),
 ) -> None:
     """Run a system's trials (skipping those already stored) and print its table."""
     from terrabench.benchmark.runner import BACKENDS, run_trials
@@ -256,7 +258,8 @@ def run(
     new_store = not store.exists()
     with ResultsStore(store) as st:
         try:
-            summary = _run_with_progress(run_trials, specs, st, backend, workers, address, tuple(variations))
+            summary = _run_with_progress(run_trials, specs, st, backend, workers, address, tuple(variations),
+                                         rerun_other_code)
         except BaseException:
             if new_store and st.trial_count() == 0:  # e.g. no Ray cluster: leave no empty store behind
                 st.close()
@@ -317,7 +320,7 @@ def _clip_window(sysobj, spec, start, span, at, store) -> tuple[float, float | N
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
-def _run_with_progress(run_trials, specs, store, backend, workers, address, varied=()):
+def _run_with_progress(run_trials, specs, store, backend, workers, address, varied=(), rerun_other_code=False):
     """Run ``specs`` with a progress bar (a plain line per trial when not on a terminal); a sweep's
     lines name each trial's values of the ``varied`` keys."""
     from rich.progress import (
@@ -359,7 +362,8 @@ def _run_with_progress(run_trials, specs, store, backend, workers, address, vari
         # in_process=False: even --workers 1 runs trials in a child process, so a trial that
         # crashes the interpreter or hangs costs only itself
         return run_trials(specs, store, backend=backend, workers=workers, address=address,
-                          on_result=on_result, on_start=on_start, in_process=False)
+                          on_result=on_result, on_start=on_start, in_process=False,
+                          rerun_other_code=rerun_other_code)
 
 def _trial_table(rows, sysobj):
     from rich.table import Table

@@ -72,6 +72,11 @@ def test_a_rerun_says_which_stored_rows_other_code_made(tmp_path):
         assert (again.skipped, again.finished, again.other_code) == (3, 0, 2)
         assert "2 of the stored trials were made by other terrabench code" in again.describe()
         assert run_trials([a], st, workers=1).other_code == 0
+        redone = run_trials([a, b, c], st, workers=1, rerun_other_code=True)
+        assert (redone.skipped, redone.finished, redone.rerun_other_code, redone.other_code) == (1, 2, 2, 0)
+        assert "2 stored trials made by other terrabench code run again" in redone.describe()
+        assert set(st.code_of([a.key, b.key, c.key]).values()) == {code_fingerprint()}  # rows replaced
+        assert run_trials([a, b, c], st, workers=1).other_code == 0
     assert len(code_fingerprint()) == 16 and code_fingerprint() == code_fingerprint()
 
 

@@ -76,6 +76,8 @@ class RunSummary:
         other_code: of the ``skipped`` trials, those whose stored row another terrabench code made
             (its ``info.host.code`` differs from :func:`~terrabench.benchmark.worker.code_fingerprint`
             here, or was not recorded): reused as stored, since a key names the spec, not the code.
+        rerun_other_code: such trials this run ran again instead (``run_trials(rerun_other_code=True)``,
+            ``terrabench run --rerun-other-code``).
         errors: reason -> count of this run's ``error`` rows (``"worker died: signal 9
             (SIGKILL)"``, ``"hung: ..."``, ``"ValueError: ..."``).
 
@@ -95,6 +97,7 @@ class RunSummary:
     hung: int = 0
     rerun_errors: int = 0
     other_code: int = 0
+    rerun_other_code: int = 0
     errors: dict[str, int] = field(default_factory=dict)
 
     @property
@@ -121,7 +124,10 @@ class RunSummary:
             parts.append(f"{self.rerun_errors} error rows from earlier runs retried")
         if self.other_code:
             parts.append(f"{self.other_code} of the stored trials were made by other terrabench code (another "
-                         f"checkout or version) and are reused as stored; a new --store runs them with this code")
+                         f"checkout or version) and are reused as stored; --rerun-other-code or a new --store "
+                         f"runs them with this code")
+        if self.rerun_other_code:
+            parts.append(f"{self.rerun_other_code} stored trials made by other terrabench code run again")
         if self.interrupted:
             parts.append("interrupted")
         return "; ".join(parts)
@@ -223,6 +229,7 @@ def run_trials(
     on_start: Callable[[int], None] | None = None,
     wall_budget: WallBudget = None,
     in_process: bool | None = None,
+    rerun_other_code: bool = False,
 ) -> RunSummary:
     """Run the specs not yet in ``store``; store each result as soon as it arrives.
 
@@ -246,6 +253,8 @@ def run_trials(
             this process a trial that hangs, segfaults or calls ``os._exit`` cannot be survived
             (a Python exception still becomes an ``error`` row). ``False`` always uses worker
             processes (fault-tolerant, also for one worker); ``True`` refuses a ``wall_budget``.
+        rerun_other_code: run again (and replace) the stored trials another terrabench code made
+            (:attr:`RunSummary.other_code`); by default they are reused as stored and counted.
     """
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; valid: {', '.join(BACKENDS)}")
@@ -255,14 +264,18 @@ def run_trials(
         raise ValueError("in_process=True cannot enforce a wall_budget; use worker processes (in_process=False)")
     budget_of = _budget_fn(wall_budget)
     unique = list({s.key: s for s in specs}.values())
-    done = store.done_keys(retry_errors=True)
+    done = store.done_keys([s.key for s in unique], retry_errors=True)
+    here = code_fingerprint()
+    other = {k for k, code in store.code_of(done).items() if code != here} if done else set()
+    if rerun_other_code:
+        done -= other
     todo = [s for s in unique if s.key not in done]
     summary = RunSummary(requested=len(unique), skipped=len(unique) - len(todo))
     summary.rerun_errors = len(store.error_keys([s.key for s in todo])) if todo else 0
-    if summary.skipped:
-        here = code_fingerprint()
-        made_by = store.code_of(s.key for s in unique if s.key in done)
-        summary.other_code = sum(1 for code in made_by.values() if code != here)
+    if rerun_other_code:
+        summary.rerun_other_code = len(other)
+    else:
+        summary.other_code = len(other)
     if on_start:
         on_start(len(todo))
     t0 = time.perf_counter()

@@ -88,6 +88,20 @@ def test_provenance_lists_each_config_with_its_difference(tmp_path):
     assert "x=2" in html and "toy trials stored: 2" in html
 
 
+def test_provenance_says_which_code_and_machines_made_the_rows():
+    from terrabench.benchmark.worker import code_fingerprint, cpu_model, host_fingerprint
+    from terrabench.report.page import made_by
+
+    host = host_fingerprint()
+    assert host["code"] == code_fingerprint() and set(cpu_model()) <= {"cpu", "avx512"}
+    rows = [{"info": {"host": host}}, {"info": {"host": {"code": "0123456789abcdef", "cpu": "Some CPU",
+                                                          "avx512": False, "pinned": False}}}, {"info": {}}]
+    line = made_by(rows)
+    assert f"made by code {code_fingerprint()} (1), 0123456789abcdef (1), not recorded (1)" in line
+    assert f"(this installation: {code_fingerprint()})" in line
+    assert "Some CPU, unpinned (1)" in line and "a host not recorded (1)" in line
+
+
 def test_timeline_segments_cover_the_trial():
     ev = [[1.0, "walk", "climb", "step"], [3.0, "climb", "walk", "done"]]
     assert segments(ev, 5.0) == [("walk", 0.0, 1.0), ("climb", 1.0, 3.0), ("walk", 3.0, 5.0)]

@@ -72,7 +72,20 @@ def host_fingerprint() -> dict[str, Any]:
     simd = [f for f in getattr(um, "__cpu_dispatch__", []) if features.get(f)]
     return {"machine": platform.machine(), "python": platform.python_version(), "numpy": np.__version__,
             "mujoco": mujoco.__version__, "libc": "-".join(platform.libc_ver()), "numpy_simd": simd,
-            "code": code_fingerprint(), **portable.state()}
+            "code": code_fingerprint(), **cpu_model(), **portable.state()}
+
+
+def cpu_model() -> dict[str, Any]:
+    """The CPU by name and whether it has AVX-512 (``/proc/cpuinfo``; empty where there is none):
+    which machine made a row, for the cross-CPU record (docs/performance.md)."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
+            text = f.read(65536)
+    except OSError:
+        return {}
+    fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
+    fields = {k.strip(): v.strip() for k, v in fields.items()}
+    return {"cpu": fields.get("model name", ""), "avx512": "avx512f" in fields.get("flags", "").split()}
 
 
 @functools.lru_cache(maxsize=1)

@@ -239,6 +239,29 @@ class Page:
         return index
 
 
+def made_by(rows: Sequence[dict[str, Any]]) -> str:
+    """One HTML line: the code and the machines that made ``rows`` (each row's ``info.host``:
+    ``code``, ``cpu``, ``avx512``, ``pinned``), with counts, beside this installation's code."""
+    from terrabench.benchmark.worker import code_fingerprint
+
+    def tally(key: Callable[[dict[str, Any]], str]) -> str:
+        n: dict[str, int] = {}
+        for r in rows:
+            k = key((r.get("info") or {}).get("host") or {})
+            n[k] = n.get(k, 0) + 1
+        return ", ".join(f"{html.escape(k)} ({c})" for k, c in sorted(n.items(), key=lambda kv: -kv[1]))
+
+    here = code_fingerprint()
+    def machine(h: dict[str, Any]) -> str:
+        if not h:
+            return "a host not recorded"
+        cpu = h.get("cpu") or "a CPU not recorded"
+        return f"{cpu}{', AVX-512' if h.get('avx512') else ''}{', pinned' if h.get('pinned') else ', unpinned'}"
+
+    code = tally(lambda h: h.get("code") or "not recorded")
+    return f"made by code {code} (this installation: {here}); on {tally(machine)}"
+
+
 def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: str,
                     default_config: Callable[[str, str], dict[str, Any] | None] | None = None,
                     extra: Sequence[str] = ()) -> str:
@@ -271,6 +294,7 @@ def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: st
         f"<li>store: <code>{html.escape(str(Path(store.path).resolve()))}</code></li>",
         f"<li>{html.escape(system_id)} trials stored: {len(rows)}; seeds {html.escape(_ranges(seeds))}</li>",
         f"<li>total simulated time {sim / 3600:.3f} h, total trial wall time {wall / 3600:.3f} h</li>",
+        f"<li>{made_by(rows)}</li>",
         *[f"<li>{x}</li>" for x in extra],
         f"<li>written by terrabench {__version__} at {_dt.datetime.now().isoformat(timespec='seconds')}</li>",
         "</ul><h3>Configs used</h3>",

@@ -130,6 +130,7 @@ class RoverController(MachineController):
         self.stop: StopRequest | None = None
         self.sb = 0.0
         self.vb_f = self.vc_f = 0.0
+        self.load_f: np.ndarray | None = None  # the wheel loads MC#10/#11 read (sup.load_tau's filter)
         # (t, x_progress, commanded progress), trimmed every step to what the efficiency window reads
         self.hist: deque[tuple[float, float, float]] = deque()
         self.cmd_prog = 0.0
@@ -403,8 +404,13 @@ class RoverController(MachineController):
         compiled: the expressions of ``eta_roll``, ``eta_yaw``, ... on scalars). MC2: while the
         suspension moves, the commanded rim speeds against the speeds the suspension motion requires
         (the RCM rolling set runs above them on purpose: it shows here)."""
+        load = obs.load
+        if self.sup.load_tau > 0.0:  # a first-order filter; the first period starts it at its reading
+            a = min(1.0, self.ts / self.sup.load_tau)
+            self.load_f = load.copy() if self.load_f is None else self.load_f + a * (load - self.load_f)
+            load = self.load_f
         return mc.period_ratios(self.robot, self.sc, u, self.u_prev, J, self.period.dz, wb, obs.delta, obs.ddelta,
-                                obs.mu, obs.load, self.rim_cmd, self._ratio_k)
+                                obs.mu, load, self.rim_cmd, self._ratio_k)
 
     def _out(self, mu, spin, u, ratios) -> Command:
         return Command(mu, spin, self.target.copy(), u, MODE_CODE.get(self.mode, 9),

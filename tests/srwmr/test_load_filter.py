@@ -26,7 +26,7 @@ def _reminders(overrides, until=25.0):
 
 @pytest.mark.parametrize("tau", [0.2])
 def test_a_transient_of_the_estimates_halts_the_raw_monitor_but_not_a_held_load(tau):
-    raw, soil_fmr = _reminders({})
+    raw, soil_fmr = _reminders({"supervisor.load_tau": 0.0})
     assert [e[-1][:22] for e in raw] == ["reminder 1: MC11 ratio"]  # 21.55 s, as stored
     assert soil_fmr < 700.0  # wherever the estimates cross MC#11, the soil's own loads are inside it
     held, _ = _reminders({"supervisor.load_tau": tau})

@@ -26,12 +26,14 @@ class SupervisorConfig:
     health_s: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="the health limit must hold this long")
     slip_tau: float = param(5.0, gt=0.0, le=600.0, unit="s", doc="time constant of the body-slip estimate")
     steer_tol: float = param(0.05, gt=0.0, le=1.0, unit="rad", doc="wheels roll once steering errors are below this")
-    load_tau: float = param(0.0, ge=0.0, le=10.0, unit="s",
+    load_tau: float = param(0.2, ge=0.0, le=10.0, unit="s",
                             doc="time constant of a first-order filter on the F/T wheel-load estimates that "
-                                "MC#10 / MC#11 read (0 = each period's raw estimates, the default): the estimates "
-                                "swing by up to +-300 N for a few periods when a wheel set starts or stops while "
-                                "the soil's loads hold (T4 RCM: W_fmr 760 N read against 323 N; docs/srwmr.md, "
-                                "'The load monitors read transients')")
+                                "MC#10 / MC#11 read [R]: the monitors judge the load distribution 'under the "
+                                "quasi-static balance' [S sec. 7.1], while the estimates swing by up to +-330 N for a "
+                                "few 10 ms periods when a wheel set starts or stops and the soil's loads hold (T4 "
+                                "RCM: W_fmr 760 N read against 323 N); 0.2 s passes a lift's load change (seconds) "
+                                "and not those; 0 = each period's raw estimates (every result before 2026-12-07; "
+                                "docs/srwmr.md, 'The load monitors read transients')")
     rcm_rim_ratio: float = param(7.0 / 3.6, ge=0.0, le=20.0,
                                  doc="RCM rolling-set rim speed per unit chassis vertical speed, a floor over "
                                      "the kinematic speed [S Task 4: '7.0 mm/s ... when the command velocity "

@@ -222,9 +222,9 @@ class ResultsStore:
         """The code fingerprint each stored row of ``keys`` was made by (``info.host.code``,
         :func:`terrabench.benchmark.worker.code_fingerprint`; ``None`` for rows stored before it
         was recorded, or an ``error`` row without a host)."""
-        wanted = set(keys)
-        rows = self.con.execute("SELECT key, json_extract_string(info, '$.host.code') FROM trials").fetchall()
-        return {k: c for k, c in rows if k in wanted}
+        rows = self.con.execute("SELECT key, json_extract_string(info, '$.host.code') FROM trials "
+                                "WHERE list_contains(?, key)", [sorted(set(keys))]).fetchall()
+        return dict(rows)
 
     def error_keys(self, keys: Iterable[str] | None = None) -> set[str]:
         """Keys of the stored rows with status ``error`` (restricted to ``keys`` if given)."""

@@ -131,6 +131,7 @@ class RoverController(MachineController):
         self.sb = 0.0
         self.vb_f = self.vc_f = 0.0
         self.load_f: np.ndarray | None = None  # the wheel loads MC#10/#11 read (sup.load_tau's filter)
+        self._load_a = min(1.0, ts / sup.load_tau) if sup.load_tau > 0.0 else 1.0  # the filter's gain a period
         # (t, x_progress, commanded progress), trimmed every step to what the efficiency window reads
         self.hist: deque[tuple[float, float, float]] = deque()
         self.cmd_prog = 0.0
@@ -405,9 +406,11 @@ class RoverController(MachineController):
         suspension moves, the commanded rim speeds against the speeds the suspension motion requires
         (the RCM rolling set runs above them on purpose: it shows here)."""
         load = obs.load
-        if self.sup.load_tau > 0.0:  # a first-order filter; the first period starts it at its reading
-            a = min(1.0, self.ts / self.sup.load_tau)
-            self.load_f = load.copy() if self.load_f is None else self.load_f + a * (load - self.load_f)
+        if self.sup.load_tau > 0.0:  # a first-order filter (in place), started at the first reading
+            if self.load_f is None:
+                self.load_f = np.array(load, float)
+            else:
+                self.load_f += self._load_a * (load - self.load_f)
             load = self.load_f
         return mc.period_ratios(self.robot, self.sc, u, self.u_prev, J, self.period.dz, wb, obs.delta, obs.ddelta,
                                 obs.mu, load, self.rim_cmd, self._ratio_k)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from terrabench.config import Relation, check_fields, clock_relations, ordered, param
+from terrabench.config import Relation, check_fields, clock_relations, ordered, param, relation
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
 from terrabench.systems.srwmr.ik import IKLimits
@@ -108,7 +108,7 @@ class SRWMRConfig:
     """Everything a trial needs besides (method, instance, seed).
 
     Relations (checked by ``validate`` once every ``--set`` is applied): the rocker and the
-    IK's delta ranges are (lower, upper) with lower < upper; the control period is a whole number
+    IK's delta ranges are (lower, upper) with lower < upper, and the IK's inside the joint's stops; the control period is a whole number
     of physics steps, and the slow check and the stored series are not faster than the controller
     (both run at control instants).
     """
@@ -116,6 +116,9 @@ class SRWMRConfig:
     relations: ClassVar[tuple[Relation, ...]] = (
         ordered("robot.rocker_range", strict=True, why="a joint range is (lower, upper)"),
         ordered("limits.delta_range", strict=True, why="a range is (lower, upper)"),
+        relation(("limits.delta_range", "robot.rocker_range"), lambda d, q: -q[1] <= d[0] and d[1] <= -q[0],
+                 "{0} must lie within the rocker joint's stops {1} read as closing angles (delta = -q)",
+                 why="the IK may not command a closing angle the joint cannot reach"),
         *clock_relations(),
     )
 

@@ -41,8 +41,9 @@ class IKLimits:
     rate_max: float = param(0.05, gt=0.0, le=1.0, unit="rad/s", doc="rocker closing-rate bound")
     weights: tuple[float, float, float, float, float] = param((1.0, 1.0, 1.0, 4.0, 4.0), gt=0.0, le=1e6, length=5,
                                                               doc="diagonal QP weights W: vx, vy, wz, rates L, R")
-    delta_range: tuple[float, float] = param((-0.45, 1.15), ge=-3.14, le=3.14, length=2, unit="rad",
-                                             doc="closing angles the rockers may reach (lower, upper)")
+    delta_range: tuple[float, float] = param((-0.60, 1.15), ge=-3.14, le=3.14, length=2, unit="rad",
+                                             doc="closing angles the rockers may reach (lower, upper): 0.05 rad "
+                                                 "inside the rocker joint's stops (robot.rocker_range, delta = -q)")
 
     def __post_init__(self) -> None:
         check_fields(self)

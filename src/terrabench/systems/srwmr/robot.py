@@ -97,8 +97,16 @@ class RobotConfig:
                                   doc="reflected rotor inertia of the geared wheel motor [R]; it also keeps the "
                                       "explicit soil torque from making the wheels oscillate (0.05 kg m^2 did, "
                                       "docs/assumptions-srwmr.md)")
-    rocker_range: tuple[float, float] = param((-1.2, 0.5), ge=-3.14, le=3.14, length=2, unit="rad",
-                                              doc="rocker_s joint range (closing < 0 < opening)")
+    rocker_range: tuple[float, float] = param((-1.2, 0.65), ge=-3.14, le=3.14, length=2, unit="rad",
+                                              doc="rocker_s joint range (closing < 0 < opening; closing angle "
+                                                  "delta = -q). Closing end: the fitted linkage's reach (534 mm "
+                                                  "at 1.2 rad). Opening end: the chassis box's bottom on flat "
+                                                  "ground with all six wheels grounded (clearance 0 at delta "
+                                                  "-0.648) [R]; it must admit Task 13's 200 mm rear lift from the "
+                                                  "150 mm clearance of the rear CoM shift (delta -0.456 on rigid "
+                                                  "flat ground, -0.48 to -0.50 measured on loose soil). The "
+                                                  "first commit's 0.5 (the earlier geometry's) left no room for "
+                                                  "it (docs/assumptions-srwmr.md)")
     bogie_range: tuple[float, float] = param((-1.2, 1.6), ge=-3.14, le=3.14, length=2, unit="rad",
                                              doc="bogie_s joint range (relative to the rear section). The bogie "
                                                  "counter-rotates by the closing angle to stay level, so the range "

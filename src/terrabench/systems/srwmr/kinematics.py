@@ -194,9 +194,16 @@ def chassis_clearance(cfg: RobotConfig, delta) -> float:
     return float(-c[:, 2].mean() - cfg.box_bottom)
 
 
+#: bisection bracket (rad) of :func:`delta_for_clearance`: the closing angles of 58 to 529 mm on the
+#: fitted linkage, around every clearance a task asks (150-550 mm tested [S]). Not read from
+#: ``robot.rocker_range``: the joint's opening stop moved to 0.65 rad, and a wider bracket moves the
+#: solved angle of the default 250 mm by one ulp, i.e. every stored trial's bits.
+CLEARANCE_BRACKET = (-0.5, 1.2)
+
+
 def delta_for_clearance(cfg: RobotConfig, clearance: float) -> float:
-    """The symmetric closing angle giving ``clearance`` (m) (bisection on [-0.5, 1.2] rad)."""
-    lo, hi = -0.5, 1.2
+    """The symmetric closing angle giving ``clearance`` (m) (bisection on :data:`CLEARANCE_BRACKET`)."""
+    lo, hi = CLEARANCE_BRACKET
     for _ in range(60):
         mid = 0.5 * (lo + hi)
         if chassis_clearance(cfg, [mid, mid]) < clearance:

@@ -48,6 +48,8 @@ CASES = [
     ("run srwmr --terrains t1-loose --set protocol.control_period=0.0001",
      ["protocol.control_period=0.0001", "physics.timestep"]),
     ("run srwmr --terrains t1-loose --set robot.rocker_range=[0.5,-0.5]", ["robot.rocker_range", "lower < 0 < upper"]),
+    ("run srwmr --terrains t1-loose --set limits.delta_range=[-0.7,1.15]",
+     ["limits.delta_range=[-0.7, 1.15]", "robot.rocker_range=[-1.2, 0.65]"]),
     ("run beams --group estimation --set estimator.k_start_range=[5,0]", ["estimator.k_start_range=[5, 0]"]),
     ("run beams --group estimation --set estimator.hb_grid_mm=[-20,40,0]", ["estimator.hb_grid_mm=[-20, 40, 0]"]),
     ("run soil --terrains mars_soft/W100/s0.2 --set wheel.radius=100", ["'wheel.radius' = 100", "(0, 2]"]),

@@ -236,6 +236,27 @@ def test_a_plan_whose_lift_did_not_happen_is_no_success():
     assert m.status == "success" and m.info["reason"] == "plan complete"
 
 
+def test_dwlm_lifts_the_rear_pair_200_mm_within_the_rockers_range():
+    """Task 13 lifts the rear wheels 200 mm [S]: DWLM lowers the chassis to the rear CoM shift's
+    150 mm, opens both rockers with the clutches engaged, and the rear pair leaves the soil while the
+    front and middle pairs carry the rover; the opening stays inside the IK's closing-angle range
+    (before the range was re-derived for the fitted linkage the lift ended at the range's end, 150 mm)."""
+    (spec,) = SYSTEM.plan(methods=["dwlm"], instances=["t13-rear"])
+    r = SYSTEM.run_trial(spec)
+    assert r.status == "success", r.info["reason"]
+    notes = [e["note"] for e in r.info["legged"]]
+    assert "lifted 200 mm (target 200 mm)" in notes
+    ts = r.timeseries
+    t, up = ts["t"], [e["t"] for e in r.info["legged"] if e["action"] in ("lift", "roll")]
+    roll = (t > up[0] + 5.0) & (t < up[1] - 5.0)  # the rear pair up, rolling 0.9 m
+    assert roll.sum() > 20
+    assert np.max(ts["W_c5"][roll]) < 5.0 and np.max(ts["W_c6"][roll]) < 5.0
+    # the middle pair takes the rear's load, within DWLM's MC#10 (W_diff <= 1300 N [S])
+    assert 700.0 < np.median(ts["W_c3"][roll]) < 1300.0
+    lo = SRWMRConfig().limits.delta_range[0]
+    assert lo < np.min(ts["delta_L"]) < -0.45 and lo < np.min(ts["delta_R"]) < -0.45
+
+
 def test_the_bogie_range_holds_the_level_bogie_over_every_clearance():
     """The bogie counter-rotates by the closing angle to stay level: its joint range must hold that
     angle from 150 mm to the linkage's highest clearance (the earlier +-0.8 rad jammed it from 480 mm,

@@ -113,6 +113,24 @@ def test_lift_heights():
         kin.lift_height(CFG, "left", 0.1)
 
 
+def test_the_rockers_open_far_enough_for_the_papers_rear_lift_and_stop_with_the_box_on_the_ground():
+    from terrabench.systems.srwmr.ik import IKLimits
+    from terrabench.systems.srwmr.legged import SHIFT
+
+    stop = -CFG.rocker_range[1]  # the opening stop as a closing angle
+    # the stop: the chassis box's bottom at flat ground with all six wheels on it
+    assert kin.chassis_clearance(CFG, [stop, stop]) == pytest.approx(0.0, abs=0.002)
+    lo = IKLimits().delta_range[0]
+    assert lo == pytest.approx(stop + 0.05)  # the IK keeps 0.05 rad off the stop, as at the closing end
+    # Task 13 lifts the rear wheel 200 mm [S] after the rear CoM shift lowers the chassis (150 mm):
+    # on rigid flat ground the rise reaches 200 mm before the IK's limit, with room for the soil
+    # (the middle wheels sink under ~880 N: -0.48 to -0.50 rad measured in T13 rear DWLM)
+    d0 = kin.delta_for_clearance(CFG, SHIFT["rear"])
+    assert kin.lift_height(CFG, "rear", lo + 0.01 - d0, d0) > 0.2 + 0.1
+    # the box stays off the ground through that lift (rigid side: front and middle wheels grounded)
+    assert kin.chassis_clearance(CFG, [lo, lo]) > 0.0
+
+
 def test_rolling_without_slip_on_rigid_ground_matches_the_command():
     """Rigid wheel contact (friction 1): the IK's wheel commands reproduce the body twist."""
     m, d = _model(rigid=True)

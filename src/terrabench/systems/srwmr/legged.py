@@ -310,7 +310,9 @@ class LeggedAction:
         released, clearance restored)."""
         name = self.name
         if name in ("lift", "roll"):
-            self._note(obs.t, "reversed: lower now")
+            # a lift cut short by the supervisor says how high it got, as the operator's reply does
+            up = f" (lifted {1000 * self.achieved:.0f} of {1000 * self.st.height:.0f} mm)" if name == "lift" else ""
+            self._note(obs.t, f"reversed{up}: lower now")
             self.phase = PHASES.index("lower")
         elif name in ("shift", "clutch"):
             self._note(obs.t, "reversed: release and restore")

@@ -108,9 +108,9 @@ class SRWMRConfig:
     """Everything a trial needs besides (method, instance, seed).
 
     Relations (checked by ``validate`` once every ``--set`` is applied): the rocker and the
-    IK's delta ranges are (lower, upper) with lower < upper, and the IK's inside the joint's stops; the control period is a whole number
-    of physics steps, and the slow check and the stored series are not faster than the controller
-    (both run at control instants).
+    IK's delta ranges are (lower, upper) with lower < upper, the IK's inside the joint's stops; the
+    control period is a whole number of physics steps, and the slow check and the stored series are
+    not faster than the controller (both run at control instants).
     """
 
     relations: ClassVar[tuple[Relation, ...]] = (

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from terrabench.systems.srwmr.legged import position
+from terrabench.systems.srwmr.report_tasks import metric
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, WHEELS
 
 #: the paper's wheel-load figures while lifted [S Task 6 / Task 7]: W_diff (N) and W_fmr (N) by the
@@ -110,7 +111,8 @@ def side_share(W: np.ndarray, side: str) -> np.ndarray:
 
 
 def roll_lines(rows, store) -> list[dict]:
-    """T12 / T13: body slip, per-wheel PC = DP / W and energy over the lifted roll, beside the paper's."""
+    """T12 / T13: body slip and per-wheel PC = DP / W over the lifted roll, and the trial's energy
+    (electrical input, then mechanical), beside the paper's."""
     lines = []
     for r in sorted(rows, key=lambda r: (r["instance"], r["method"], r["seed"])):
         if (r["instance"], r["method"]) not in PAPER_ROLL:
@@ -127,7 +129,6 @@ def roll_lines(rows, store) -> list[dict]:
         with np.errstate(divide="ignore", invalid="ignore"):
             sb = 1.0 - np.asarray(ts["v"], float)[roll] / vc[roll]
             pc = np.where(W[roll] > 1.0, DP[roll] / W[roll], np.nan)
-        e = np.asarray(ts["energy"], float) if "energy" in ts else np.full(len(t), np.nan)
         ps, pe = PAPER_ROLL[(r["instance"], r["method"])]
         lifted = [WHEELS.index(c) for c in sp.get("lift", "").split("+") if c in WHEELS]
         others = [i for i in range(6) if i not in lifted]
@@ -138,7 +139,8 @@ def roll_lines(rows, store) -> list[dict]:
             "PC median c1..c6 (roll)": " ".join("-" if i in lifted else f"{np.nanmedian(pc[:, i]):.2f}"
                                                 for i in range(6)) if len(sb) else "",
             "least W of the grounded N": float(np.min(W[roll][:, others])) if len(sb) else float("nan"),
-            "energy kJ": float((e[-1] - e[0]) / 1000.0) if len(e) else float("nan"),
+            # the trial's electrical input beside the paper's EC (measured electrically), the mechanical after it
+            "energy kJ": metric(r, "energy_elec_kJ"), "mech kJ": metric(r, "energy_kJ"),
             "paper s_b": ps, "paper EC kJ": pe, "paper PC": PAPER_PC.get((r["instance"], r["method"]), ""),
         })
     return lines

@@ -48,7 +48,8 @@ def _first(rows, inst, meth):
     return rs
 
 
-def _m(r, key):
+def metric(r, key) -> float:
+    """A stored row's metric as a float (NaN where the trial did not record it)."""
     v = r["metrics"].get(key, float("nan"))
     return float(v) if v is not None else float("nan")
 
@@ -71,10 +72,10 @@ def t2_lines(rows) -> list[dict[str, Any]]:
             lines.append({
                 "seed": r["seed"],
                 "period": name,
-                "body slip": _m(r, f"step{k}_slip"),
-                "time s": _m(r, f"step{k}_time"),
-                "energy kJ": _m(r, f"step{k}_energy_elec_kJ"),
-                "mech kJ": _m(r, f"step{k}_energy_kJ"),
+                "body slip": metric(r, f"step{k}_slip"),
+                "time s": metric(r, f"step{k}_time"),
+                "energy kJ": metric(r, f"step{k}_energy_elec_kJ"),
+                "mech kJ": metric(r, f"step{k}_energy_kJ"),
                 "paper": "s_b around 0.4 (WRM and WCM)",
             })
     return lines
@@ -85,18 +86,18 @@ def t9_lines(rows) -> list[dict[str, Any]]:
     for meth in ("wrm", "wcm"):
         for r in _first(rows, "t9-avoid", meth):
             sb, rng, pt, pe, pp = T9_PAPER[meth]
-            t, e = _m(r, "sim_time"), _m(r, "energy_elec_kJ")
+            t, e = metric(r, "sim_time"), metric(r, "energy_elec_kJ")
             lines.append({
                 "mode": meth,
                 "seed": r["seed"],
                 "status": r["status"],
-                "body slip": _m(r, "body_slip"),
-                "slip p10-p90": f"{_m(r, 'slip_p10'):.2f}-{_m(r, 'slip_p90'):.2f}",
+                "body slip": metric(r, "body_slip"),
+                "slip p10-p90": f"{metric(r, 'slip_p10'):.2f}-{metric(r, 'slip_p90'):.2f}",
                 "time s": t,
                 "energy kJ": e,
-                "mech kJ": _m(r, "energy_kJ"),
+                "mech kJ": metric(r, "energy_kJ"),
                 "power W": 1000 * e / t if t > 0 else float("nan"),
-                "PE": _m(r, "PE"),
+                "PE": metric(r, "PE"),
                 "paper s_b": sb,
                 "paper range": rng,
                 "paper time s": pt,
@@ -110,14 +111,14 @@ def t10_lines(rows) -> list[dict[str, Any]]:
     lines = []
     for r in _first(rows, "t10-heights", "rclm"):
         for k, name in enumerate(t10_periods()):
-            t, e = _m(r, f"step{k}_time"), _m(r, f"step{k}_energy_elec_kJ")
+            t, e = metric(r, f"step{k}_time"), metric(r, f"step{k}_energy_elec_kJ")
             lines.append({
                 "seed": r["seed"],
                 "period mm": name,
-                "body slip": _m(r, f"step{k}_slip"),
+                "body slip": metric(r, f"step{k}_slip"),
                 "time s": t,
                 "energy kJ": e,
-                "mech kJ": _m(r, f"step{k}_energy_kJ"),
+                "mech kJ": metric(r, f"step{k}_energy_kJ"),
                 "power W": 1000 * e / t if t > 0 else float("nan"),
                 "paper energy kJ": T10_PAPER_KJ.get(name, float("nan")),
                 "paper power W": 1000 * T10_PAPER_KW[name] if name in T10_PAPER_KW else float("nan"),
@@ -167,7 +168,7 @@ def t15_lines(store, rows, robot) -> tuple[list[dict[str, Any]], list[tuple[str,
                 "yaw rate rad/s": f"{rate[:3].mean():.4f} -> {rate[-3:].mean():.4f}",
                 "achieved share": float(np.mean(rate) / w),
                 "d(yaw rate)/d(wheelbase) 1/(m s)": slope,
-                "MC8 max": _m(r, "max_eta_MC8"),
+                "MC8 max": metric(r, "max_eta_MC8"),
                 "paper": "yaw rate falls as the wheelbase lengthens; MC#8 max ~0.4 (below threshold)",
                 "verdict": "falls" if slope < 0 else "does not fall",
             })

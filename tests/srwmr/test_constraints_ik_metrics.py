@@ -83,6 +83,30 @@ def test_metrics_on_synthetic_series():
     assert wd.tolist() == [0, 456] and wf[1] == pytest.approx(380)
 
 
+def test_w_fmr_about_the_midrange_reads_the_papers_own_pairs():
+    """The two readings of W_fmr's lost equation on the paper's Task 7 figures [S]: with the front
+    pair lifted W_diff ~1300 N and W_fmr ~640 N, with the rear pair lifted 1189 N and 612 N. A lifted
+    wheel carries 0 N and the six loads sum to the weight (mean ~380 N [S]), so about the mean
+    W_fmr is at least W_diff - 380 N (920 / 809 N, past MC#11's 700 N the paper's own lifts kept),
+    while about the midrange of W_max and W_min it is W_diff / 2 (650 / 595 N)."""
+    mean_load = 380.0
+    for wdiff, paper_fmr in ((1300.0, 640.0), (1189.0, 612.0)):
+        rest = (6 * mean_load - wdiff) / 3  # the other grounded wheels share the remainder
+        w = [0.0, 0.0, wdiff, rest, rest, rest]
+        assert mc.w_diff(w) == pytest.approx(wdiff)
+        about_mean, about_mid = mc.w_fmr(w, "mean"), mc.w_fmr(w, "midrange")
+        assert about_mean == pytest.approx(wdiff - mean_load) and about_mean > 700.0
+        assert about_mid == pytest.approx(wdiff / 2) and abs(about_mid - paper_fmr) < 0.05 * paper_fmr
+    sc = mc.Scales(w_fmr_centre="midrange")
+    w = [0, 380, 570, 380, 570, 380]
+    assert mc.load_ratios(w, sc)[1] == pytest.approx(285 / 700)
+    wd, wf = mt.load_figures(np.array([w]), "midrange")
+    assert wf[0] == pytest.approx(wd[0] / 2)
+    # the compiled period ratios read the same centre as the oracle's functions
+    k = mc.ratio_consts(CFG, sc)
+    assert k[-1] == 1.0 and mc.ratio_consts(CFG, SC)[-1] == 0.0
+
+
 def test_soil_fit_constants_reproduce_the_t1_targets():
     """The fitted soils give the T1 zero-pull slips they were fitted to (fails if the soil model changes)."""
     from terrabench.systems.srwmr.soils import LOOSE, TARGETS, VERY_LOOSE, zero_pull_slip

@@ -97,8 +97,8 @@ def test_compiled_qp_rows_equal_the_row_by_row_reference_bitwise_and_place_u_nom
 
 def test_compiled_ratios_equal_the_numpy_form_bitwise():
     rng = np.random.default_rng(14)
-    sc = mc.Scales()
     for i in range(2000):
+        sc = mc.Scales(w_fmr_centre="midrange" if i % 3 == 0 else "mean")
         d, mu = rng.uniform(-0.45, 1.15, 2), rng.uniform(-1.6, 1.6, 6)
         (_, J), _, dz, wb = period_geometry(CFG, d, np.zeros(6))
         u = rng.uniform(-0.05, 0.05, 5) * (rng.uniform(size=5) < 0.6)

@@ -83,7 +83,7 @@ CONSTRAINTS = (
     MotionConstraint("MC8", "change of the yaw rate per step", "w_floor", 6, (12, 14), False),
     MotionConstraint("MC9", "left-right vertical speed difference (roll rate)", "vz9", 7, (14, 16), False, False),
     MotionConstraint("MC10", "W_diff, the spread of the wheel loads", "w_diff", 8, None, True),
-    MotionConstraint("MC11", "W_fmr, the largest wheel load's distance from the mean", "w_fmr", 9, None, True),
+    MotionConstraint("MC11", "W_fmr, W_max's or W_min's distance from the average load", "w_fmr", 9, None, True),
 )
 NAMES = tuple(c.name for c in CONSTRAINTS)
 #: the ratios the supervisor halts on (the stability margins of sec. 7.1, posture and loads):
@@ -120,6 +120,11 @@ class Scales:
     vz9: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#9 left-right vertical speed difference scale")
     w_diff: float = param(1300.0, gt=0.0, le=1e4, unit="N", doc="MC#10 W_diff scale [S 1100 SWLM / 1300 DWLM]")
     w_fmr: float = param(700.0, gt=0.0, le=1e4, unit="N", doc="MC#11 W_fmr scale [S 700]")
+    w_fmr_centre: str = param("mean", choices=("mean", "midrange"),
+                              doc="the load W_fmr measures W_max and W_min from (its equation is lost: 'the maximum "
+                                  "difference between the highest wheel load, Wmax, the lowest wheel load, Wmin, and "
+                                  "their average load' [S]): mean = the six wheels' mean load; midrange = the average "
+                                  "of W_max and W_min, so W_fmr = W_diff / 2 (docs/assumptions-srwmr.md, 'W_fmr')")
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -200,16 +205,17 @@ def w_diff(loads, grounded=None) -> float:
     return float(w.max() - w.min())
 
 
-def w_fmr(loads) -> float:
-    """W_fmr = max(W_max - mean, mean - W_min) (N)."""
+def w_fmr(loads, centre: str = "mean") -> float:
+    """W_fmr = max(W_max - c, c - W_min) (N), c the loads' mean (``centre`` "mean") or the average of
+    W_max and W_min ("midrange": W_diff / 2)."""
     w = np.asarray(loads, float)
-    m = w.mean()
+    m = w.mean() if centre == "mean" else 0.5 * (w.max() + w.min())
     return float(max(w.max() - m, m - w.min()))
 
 
 def load_ratios(loads, sc: Scales) -> tuple[float, float]:
     """(MC#10, MC#11) ratios."""
-    return w_diff(loads) / sc.w_diff, w_fmr(loads) / sc.w_fmr
+    return w_diff(loads) / sc.w_diff, w_fmr(loads, sc.w_fmr_centre) / sc.w_fmr
 
 
 def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:
@@ -250,6 +256,8 @@ def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, loa
         lo, hi = min(lo, load[i]), max(hi, load[i])
         total += load[i]
     mean = total / 6  # numpy's order for 6 values (one after the other from 0)
+    if k[10] != 0.0:  # W_fmr about the midrange of W_max and W_min (Scales.w_fmr_centre)
+        mean = 0.5 * (hi + lo)
     r[8] = (hi - lo) / w_diff_scale
     r[9] = max(hi - mean, mean - lo) / w_fmr_scale
     return r
@@ -276,7 +284,7 @@ def ratio_consts(cfg, sc: Scales) -> np.ndarray:
     """The scalars :func:`period_ratios` reads, in the kernel's order (a controller builds them
     once and passes them as ``k``)."""
     return np.array((cfg.wheelbase_fm, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
-                     sc.w_diff, sc.w_fmr))
+                     sc.w_diff, sc.w_fmr, 1.0 if sc.w_fmr_centre == "midrange" else 0.0))
 
 
 _NO_RIM = np.zeros(6)

@@ -6,7 +6,8 @@
 * drawbar-pull coefficient ``PC = F_DP / F_N``;
 * traction efficiency ``PE = F_DP v / P_drive`` (the paper's eq. 43 form, DP v over T w);
 * energy (J) as the integral of the actuators' |tau w|;
-* wheel-load figures ``W_diff = W_max - W_min``, ``W_fmr = max(W_max - mean, mean - W_min)``;
+* wheel-load figures ``W_diff = W_max - W_min``, ``W_fmr = max(W_max - c, c - W_min)``, c the loads'
+  mean or the midrange of W_max and W_min (``scales.w_fmr_centre``);
 * constraint ratios: their maxima over the episode.
 """
 
@@ -84,11 +85,13 @@ def energy(power, dt: float) -> float:
     return float(np.nansum(np.asarray(power, float)) * dt)
 
 
-def load_figures(loads) -> tuple[np.ndarray, np.ndarray]:
-    """Per-instant W_diff and W_fmr (N) of a (n, 6) load series."""
+def load_figures(loads, centre: str = "mean") -> tuple[np.ndarray, np.ndarray]:
+    """Per-instant W_diff and W_fmr (N) of a (n, 6) load series, W_fmr about the loads' mean or the
+    midrange of W_max and W_min (``centre``, as :func:`~terrabench.systems.srwmr.constraints.w_fmr`)."""
     w = np.asarray(loads, float)
-    m = w.mean(axis=1)
-    return w.max(axis=1) - w.min(axis=1), np.maximum(w.max(axis=1) - m, m - w.min(axis=1))
+    hi, lo = w.max(axis=1), w.min(axis=1)
+    m = w.mean(axis=1) if centre == "mean" else 0.5 * (hi + lo)
+    return hi - lo, np.maximum(hi - m, m - lo)
 
 
 def path_length(x, y) -> float:
@@ -96,7 +99,7 @@ def path_length(x, y) -> float:
     return float(np.sum(np.hypot(np.diff(x), np.diff(y))))
 
 
-def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
+def episode_metrics(log, x_start: float, z_start: float, w_fmr_centre: str = "mean") -> dict[str, float]:
     """The named figures of a finished episode log (columns of :mod:`terrabench.systems.srwmr.task`)."""
     col = log.column
     x, y, z = col("x"), col("y"), col("z")
@@ -106,7 +109,7 @@ def episode_metrics(log, x_start: float, z_start: float) -> dict[str, float]:
     else:
         v, vc = col("v"), col("v_cmd")
     W = log.block([f"W_{c}" for c in WHEELS])
-    wd, wf = load_figures(W)
+    wd, wf = load_figures(W, w_fmr_centre)
     moving = np.isfinite(vc) & (np.abs(vc) > 1e-4)
     slip = col("slip")
     out = {

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from terrabench.systems.srwmr.legged import position
+from terrabench.systems.srwmr.metrics import load_figures
 from terrabench.systems.srwmr.report_tasks import metric
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, WHEELS
 
@@ -68,6 +69,12 @@ def _loads(ts, ft: bool = False):
     return np.asarray(ts["t"], float), W
 
 
+def fmr_centre(r) -> str:
+    """The load a row's W_fmr was measured about (``scales.w_fmr_centre``; rows made before the
+    field existed used the mean)."""
+    return (r.get("config") or {}).get("scales", {}).get("w_fmr_centre", "mean")
+
+
 def load_lines(rows, store) -> list[dict]:
     """T6 / T7: W_diff and W_fmr (truth wheel loads) while each wheel set was up, beside the paper's."""
     lines = []
@@ -78,8 +85,7 @@ def load_lines(rows, store) -> list[dict]:
         if not ts or "t" not in ts:
             continue
         t, W = _loads(ts, ft=True)
-        wd = W.max(1) - W.min(1)
-        fm = np.maximum(W.max(1) - W.mean(1), W.mean(1) - W.min(1))
+        wd, fm = load_figures(W, fmr_centre(r))
         nom = (t > 1.0) & (t < 5.0)
         for sp in lift_spans(r["info"].get("legged", [])):
             up = (t >= sp.get("t_up", np.inf)) & (t <= sp.get("t_down", -np.inf))
@@ -157,8 +163,10 @@ def report_sections(page, store, rows, slug: str, plt) -> None:
            "opposite wheel's; DWLM: over the line through its side's other two axles). T6/T7/T14 wheel loads are the "
            "F/T estimates the supervisor reads (they include a wheel on a rigid step); the T12/T13 PC = DP / W uses "
            "the soil's own forces. W_diff = "
-           "W_max - W_min, W_fmr = max(W_max - mean, mean - W_min) over all six wheels (a lifted wheel counts "
-           "as 0). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 W_fmr <= 700 N [S]. The lifted side's "
+           "W_max - W_min, W_fmr = max(W_max - c, c - W_min) over all six wheels (a lifted wheel counts "
+           "as 0), c the average load the trial's scales.w_fmr_centre names (the six loads' mean, or the midrange "
+           "of W_max and W_min: W_fmr = W_diff / 2). MC#10 W_diff <= 1100 N (SWLM) / 1300 N (DWLM), MC#11 "
+           "W_fmr <= 700 N [S]. The lifted side's "
            "share (SWLM) is its three wheels' part of the six loads while the wheel is up; the paper's bound follows "
            "from its W_diff with the far wheel 'nearly suspended' (Task 6), the rest on the other side: 'the CoM "
            "shifting to the side of the unlifted wheel' (sec. 3.1).")
@@ -184,8 +192,9 @@ def report_sections(page, store, rows, slug: str, plt) -> None:
         ax[0].axhline(380, color="k", ls=":", lw=0.8, label="paper nominal ~380 N")
         ax[0].set_ylabel("wheel load N")
         ax[0].legend(fontsize="x-small", ncol=7)
-        ax[1].plot(t, W.max(1) - W.min(1), label="W_diff")
-        ax[1].plot(t, np.maximum(W.max(1) - W.mean(1), W.mean(1) - W.min(1)), label="W_fmr")
+        wd, fm = load_figures(W, fmr_centre(r))
+        ax[1].plot(t, wd, label="W_diff")
+        ax[1].plot(t, fm, label=f"W_fmr (about the {fmr_centre(r)})")
         lim = 1100 if r["method"] == "swlm" else 1300
         ax[1].axhline(lim, color="r", ls="--", lw=0.8, label=f"MC#10 {lim} N")
         ax[1].axhline(700, color="m", ls="--", lw=0.8, label="MC#11 700 N")

@@ -328,7 +328,7 @@ class SRWMRTask(TaskBase):
     def metrics(self, log) -> dict[str, float]:
         from terrabench.systems.srwmr.metrics import episode_metrics
 
-        out = episode_metrics(log, self.x_start, self.z_start)
+        out = episode_metrics(log, self.x_start, self.z_start, self.cfg.scales.w_fmr_centre)
         out["energy_elec_kJ"] = self.energy_elec / 1000.0
         for k, e in sorted(self.energy_elec_steps.items())[:8]:  # the steps episode_metrics reports
             out[f"step{k}_energy_elec_kJ"] = e / 1000.0

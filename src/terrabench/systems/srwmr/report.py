@@ -231,11 +231,14 @@ CLIP_EVENT = {"wrm": "start", "wcm": "start", "rclm": "start", "rcm": "creep", "
 
 
 def _clip_rows(store: Any, system: Any, rows: list[dict[str, Any]]) -> dict[str, tuple[dict[str, Any], float]]:
-    """Per mode, its first stored trial (seed, instance order; slope sweeps last) in which the mode's
-    :data:`CLIP_EVENT` happens, and the event's time: a distinct trial per mode, showing its action."""
+    """Per mode, its first stored trial (seed, instance order; slope sweeps last; a success before a
+    failure) in which the mode's :data:`CLIP_EVENT` happens, and the event's time: a distinct trial
+    per mode, showing its action where it works (a DWLM lift that reached its height rather than one
+    that stopped at 11 mm, RCM's climb of T5 rather than its shuttle in T4's ruts)."""
     out: dict[str, tuple[dict[str, Any], float]] = {}
     # the paper's numbered tasks first, then its other experiments, the sweeps last
-    order = sorted(rows, key=lambda r: (_group(r) != "tasks", not _in_tasks(r), r["seed"], r["instance"]))
+    order = sorted(rows, key=lambda r: (_group(r) != "tasks", not _in_tasks(r), r["status"] != "success",
+                                        r["seed"], r["instance"]))
     for r in order:
         meth = r["method"]
         if meth in out or meth not in CLIP_EVENT:
@@ -249,7 +252,8 @@ def _clip_rows(store: Any, system: Any, rows: list[dict[str, Any]]) -> dict[str,
 def _snapshots(page: Any, store: Any, system: Any, rows: list[dict[str, Any]], slug: str) -> None:
     """Per mode: four frames of its first stored trial (t = 0 and thirds of its first
     ``SNAPSHOT_SPAN`` s), and a clip cut at the mode's own event (:data:`CLIP_EVENT`, a quarter of
-    the clip before it) from the first trial where it happens; both re-run from the stored config,
+    the clip before it) from the first trial where it happens, a success first (:func:`_clip_rows`);
+    both re-run from the stored config,
     seen from the robot's right along the axles (a note instead without GL)."""
     from terrabench.benchmark.trial import TrialSpec
 
@@ -275,7 +279,8 @@ def _snapshots(page: Any, store: Any, system: Any, rows: list[dict[str, Any]], s
         start = max(0.0, t_ev - 0.25 * CLIP_SPAN)
         page.clip(f"clip_{meth}{slug}.mp4",
                   f"{meth.upper()} on {r['instance']} (seed {r['seed']}): {CLIP_EVENT[meth]} at {t_ev:.1f} s; "
-                  f"{start:.1f}-{start + CLIP_SPAN:.1f} s at 10x real time (<code>terrabench render srwmr --method "
+                  f"{start:.1f}-{start + CLIP_SPAN:.1f} s at 10x real time, trial status {r['status']} "
+                  f"(<code>terrabench render srwmr --method "
                   f"{meth} --terrain {r['instance']} --at {CLIP_EVENT[meth]}</code>)",
                   system, spec, CLIP_SPAN, every=40, start=start, width=640, height=360)
 

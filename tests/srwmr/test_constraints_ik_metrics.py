@@ -105,6 +105,10 @@ def test_w_fmr_about_the_midrange_reads_the_papers_own_pairs():
     # the compiled period ratios read the same centre as the oracle's functions
     k = mc.ratio_consts(CFG, sc)
     assert k[-1] == 1.0 and mc.ratio_consts(CFG, SC)[-1] == 0.0
+    with pytest.raises(ValueError, match="valid: mean, midrange"):
+        mc.w_fmr(w, "median")
+    with pytest.raises(ValueError, match="valid: mean, midrange"):
+        mt.load_figures(np.array([w]), "median")
 
 
 def test_soil_fit_constants_reproduce_the_t1_targets():

@@ -106,6 +106,10 @@ def mc1_check(lifted) -> None:
         )
 
 
+#: the loads W_fmr can be measured about (``Scales.w_fmr_centre``)
+FMR_CENTRES = ("mean", "midrange")
+
+
 @dataclass(frozen=True)
 class Scales:
     """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md)."""
@@ -120,7 +124,7 @@ class Scales:
     vz9: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#9 left-right vertical speed difference scale")
     w_diff: float = param(1300.0, gt=0.0, le=1e4, unit="N", doc="MC#10 W_diff scale [S 1100 SWLM / 1300 DWLM]")
     w_fmr: float = param(700.0, gt=0.0, le=1e4, unit="N", doc="MC#11 W_fmr scale [S 700]")
-    w_fmr_centre: str = param("mean", choices=("mean", "midrange"),
+    w_fmr_centre: str = param("mean", choices=FMR_CENTRES,
                               doc="the load W_fmr measures W_max and W_min from (its equation is lost: 'the maximum "
                                   "difference between the highest wheel load, Wmax, the lowest wheel load, Wmin, and "
                                   "their average load' [S]): mean = the six wheels' mean load; midrange = the average "
@@ -208,6 +212,8 @@ def w_diff(loads, grounded=None) -> float:
 def w_fmr(loads, centre: str = "mean") -> float:
     """W_fmr = max(W_max - c, c - W_min) (N), c the loads' mean (``centre`` "mean") or the average of
     W_max and W_min ("midrange": W_diff / 2)."""
+    if centre not in FMR_CENTRES:
+        raise ValueError(f"centre={centre!r} is unknown; valid: {', '.join(FMR_CENTRES)}")
     w = np.asarray(loads, float)
     m = w.mean() if centre == "mean" else 0.5 * (w.max() + w.min())
     return float(max(w.max() - m, m - w.min()))

@@ -88,6 +88,8 @@ def energy(power, dt: float) -> float:
 def load_figures(loads, centre: str = "mean") -> tuple[np.ndarray, np.ndarray]:
     """Per-instant W_diff and W_fmr (N) of a (n, 6) load series, W_fmr about the loads' mean or the
     midrange of W_max and W_min (``centre``, as :func:`~terrabench.systems.srwmr.constraints.w_fmr`)."""
+    if centre not in mc.FMR_CENTRES:
+        raise ValueError(f"centre={centre!r} is unknown; valid: {', '.join(mc.FMR_CENTRES)}")
     w = np.asarray(loads, float)
     hi, lo = w.max(axis=1), w.min(axis=1)
     m = w.mean(axis=1) if centre == "mean" else 0.5 * (hi + lo)

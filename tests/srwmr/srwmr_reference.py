@@ -194,8 +194,10 @@ def row_reference(self, obs, cmd) -> np.ndarray:
     out[6] = c * vw[0] + s * vw[1]
     out[8:10] = obs.delta
     slip, sink, dp = t["slip"], t["sinkage"], t["DP"]
-    out[12] = slip.sum() / slip.size  # = np.mean
-    out[13] = sink.sum() / sink.size
+    soil = sink > 0.0  # the wheels in the soil: a lifted wheel has no soil slip or sinkage
+    n = int(soil.sum())
+    out[12] = slip[soil].sum() / n if n else np.nan  # = np.mean over the wheels in the soil
+    out[13] = sink[soil].sum() / n if n else np.nan
     out[14:20] = t["Fn"]
     out[20] = dp.sum()
     a = self.a_drive

@@ -251,6 +251,9 @@ def test_dwlm_lifts_the_rear_pair_200_mm_within_the_rockers_range():
     roll = (t > up[0] + 5.0) & (t < up[1] - 5.0)  # the rear pair up, rolling 0.9 m
     assert roll.sum() > 20
     assert np.max(ts["W_c5"][roll]) < 5.0 and np.max(ts["W_c6"][roll]) < 5.0
+    # the logged wheel slip and sinkage are the soil's, of the four wheels in it: the lifted pair (not
+    # turning while its hubs move, a kinematic slip of -1) no longer pulls the mean below zero
+    assert np.nanmedian(ts["slip"][roll]) > 0.1 and np.nanmedian(ts["sinkage"][roll]) > 0.03
     # the middle pair takes the rear's load, within DWLM's MC#10 (W_diff <= 1300 N [S])
     assert 700.0 < np.median(ts["W_c3"][roll]) < 1300.0
     lo = SRWMRConfig().limits.delta_range[0]

@@ -2,7 +2,8 @@
 
 * body slip ``s_b = 1 - v_b / v_cmd`` (the paper's robot slip), time-aggregated as
   ``1 - sum(v) / sum(v_cmd)`` over the instants with a commanded speed;
-* wheel slip ``s = (r w - v) / (r w)`` (mean of the wheels, from the soil model);
+* wheel slip ``s = (r w - v) / (r w)`` (mean of the wheels in the soil, from the soil model: a lifted
+  wheel has none);
 * drawbar-pull coefficient ``PC = F_DP / F_N``;
 * traction efficiency ``PE = F_DP v / P_drive`` (the paper's eq. 43 form, DP v over T w);
 * energy (J) as the integral of the actuators' |tau w|;

@@ -76,16 +76,19 @@ def _row_kernel(p, qvel, rpy, delta, slip, sink, fn, dp, force, vel, drive, load
     out[6] = c * qvel[0] + s * qvel[1]
     out[8], out[9] = delta[0], delta[1]
     s_slip = s_sink = s_dp = s_pow = 0.0
+    n_in = 0
     for i in range(6):
-        s_slip += slip[i]
-        s_sink += sink[i]
+        if sink[i] > 0.0:  # slip and sinkage are the soil's: a wheel out of the soil (lifted) has neither
+            s_slip += slip[i]
+            s_sink += sink[i]
+            n_in += 1
         s_dp += dp[i]
         s_pow += abs(force[drive[i]] * vel[drive[i]])
         out[14 + i] = fn[i]
         out[22 + i] = dp[i]
         out[28 + i] = load[i]
-    out[12] = s_slip / 6
-    out[13] = s_sink / 6
+    out[12] = s_slip / n_in if n_in else np.nan
+    out[13] = s_sink / n_in if n_in else np.nan
     out[20] = s_dp
     out[21] = s_pow
     for i in range(_ETA_END - _ETA_START):

@@ -209,14 +209,22 @@ def w_diff(loads, grounded=None) -> float:
     return float(w.max() - w.min())
 
 
-def w_fmr(loads, centre: str = "mean") -> float:
-    """W_fmr = max(W_max - c, c - W_min) (N), c the loads' mean (``centre`` "mean") or the average of
-    W_max and W_min ("midrange": W_diff / 2)."""
+def load_figures(loads, centre: str = "mean") -> tuple[np.ndarray, np.ndarray]:
+    """W_diff = W_max - W_min and W_fmr = max(W_max - c, c - W_min) (N) over the last axis of
+    ``loads`` (one instant's six loads, or a (n, 6) series), c the loads' mean (``centre`` "mean")
+    or the average of W_max and W_min ("midrange": W_fmr = W_diff / 2). The compiled
+    :func:`period_ratios` computes the same per period."""
     if centre not in FMR_CENTRES:
         raise ValueError(f"centre={centre!r} is unknown; valid: {', '.join(FMR_CENTRES)}")
     w = np.asarray(loads, float)
-    m = w.mean() if centre == "mean" else 0.5 * (w.max() + w.min())
-    return float(max(w.max() - m, m - w.min()))
+    hi, lo = w.max(axis=-1), w.min(axis=-1)
+    m = w.mean(axis=-1) if centre == "mean" else 0.5 * (hi + lo)
+    return hi - lo, np.maximum(hi - m, m - lo)
+
+
+def w_fmr(loads, centre: str = "mean") -> float:
+    """W_fmr of one instant's loads (N): :func:`load_figures`."""
+    return float(load_figures(loads, centre)[1])
 
 
 def load_ratios(loads, sc: Scales) -> tuple[float, float]:

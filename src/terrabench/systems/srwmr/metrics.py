@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from terrabench.systems.srwmr import constraints as mc
+from terrabench.systems.srwmr.constraints import load_figures  # the figures, here and in the reports
 from terrabench.systems.srwmr.robot import WHEELS
 
 
@@ -84,17 +85,6 @@ def traction_efficiency(dp, v, p_drive) -> float:
 def energy(power, dt: float) -> float:
     """Integral of power (W) sampled every ``dt`` (s), J."""
     return float(np.nansum(np.asarray(power, float)) * dt)
-
-
-def load_figures(loads, centre: str = "mean") -> tuple[np.ndarray, np.ndarray]:
-    """Per-instant W_diff and W_fmr (N) of a (n, 6) load series, W_fmr about the loads' mean or the
-    midrange of W_max and W_min (``centre``, as :func:`~terrabench.systems.srwmr.constraints.w_fmr`)."""
-    if centre not in mc.FMR_CENTRES:
-        raise ValueError(f"centre={centre!r} is unknown; valid: {', '.join(mc.FMR_CENTRES)}")
-    w = np.asarray(loads, float)
-    hi, lo = w.max(axis=1), w.min(axis=1)
-    m = w.mean(axis=1) if centre == "mean" else 0.5 * (hi + lo)
-    return hi - lo, np.maximum(hi - m, m - lo)
 
 
 def path_length(x, y) -> float:

@@ -75,9 +75,11 @@ def host_fingerprint() -> dict[str, Any]:
             "code": code_fingerprint(), **cpu_model(), **portable.state()}
 
 
+@functools.lru_cache(maxsize=1)
 def cpu_model() -> dict[str, Any]:
     """The CPU by name and whether it has AVX-512 (``/proc/cpuinfo``; empty where there is none):
-    which machine made a row, for the cross-CPU record (docs/performance.md)."""
+    which machine made a row, for the cross-CPU record (docs/performance.md). Read once per process
+    (every row's ``info.host`` spreads it; do not mutate the returned dict)."""
     try:
         with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
             text = f.read(65536)

@@ -251,7 +251,6 @@ def made_by(rows: Sequence[dict[str, Any]]) -> str:
             n[k] = n.get(k, 0) + 1
         return ", ".join(f"{html.escape(k)} ({c})" for k, c in sorted(n.items(), key=lambda kv: -kv[1]))
 
-    here = code_fingerprint()
     def machine(h: dict[str, Any]) -> str:
         if not h:
             return "a host not recorded"
@@ -259,7 +258,7 @@ def made_by(rows: Sequence[dict[str, Any]]) -> str:
         return f"{cpu}{', AVX-512' if h.get('avx512') else ''}{', pinned' if h.get('pinned') else ', unpinned'}"
 
     code = tally(lambda h: h.get("code") or "not recorded")
-    return f"made by code {code} (this installation: {here}); on {tally(machine)}"
+    return f"made by code {code} (this installation: {code_fingerprint()}); on {tally(machine)}"
 
 
 def provenance_html(store: Any, rows: Sequence[dict[str, Any]], *, system_id: str,

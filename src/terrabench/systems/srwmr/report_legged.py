@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from terrabench.systems.srwmr.constraints import load_figures
 from terrabench.systems.srwmr.legged import position
-from terrabench.systems.srwmr.metrics import load_figures
 from terrabench.systems.srwmr.report_tasks import metric
 from terrabench.systems.srwmr.robot import WHEEL_SIDE, WHEELS
 

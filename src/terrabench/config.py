@@ -175,12 +175,15 @@ class Relation:
         says: what must hold, ``{0}``, ``{1}``... standing for the fields (``"{0} must be <= {1}"``);
             in an error each reads ``key=value``.
         why: optional reason shown after it in brackets.
+        detail: optional values -> a line on what *is* valid for these values (a bound computed from
+            other fields, e.g. what a linkage reaches), added to ``why`` in an error.
     """
 
     keys: tuple[str, ...]
     holds: Callable[..., bool]
     says: str
     why: str = ""
+    detail: Callable[..., str] | None = None
 
     def text(self, prefix: str = "") -> str:
         """The relation in words with the keys alone (``terrabench config SYSTEM``)."""
@@ -196,7 +199,10 @@ class Relation:
         except (TypeError, ValueError, ArithmeticError, IndexError):
             ok = False
         if not ok:
-            raise RelationError(self.keys, values, self.says, self.why)
+            why = self.why
+            if self.detail is not None:
+                why = f"{why}; {self.detail(*values)}" if why else self.detail(*values)
+            raise RelationError(self.keys, values, self.says, why)
 
 
 def _get(cfg: Any, key: str) -> Any:
@@ -205,9 +211,10 @@ def _get(cfg: Any, key: str) -> Any:
     return cfg
 
 
-def relation(keys: typing.Sequence[str], holds: Callable[..., bool], says: str, why: str = "") -> Relation:
+def relation(keys: typing.Sequence[str], holds: Callable[..., bool], says: str, why: str = "",
+             detail: Callable[..., str] | None = None) -> Relation:
     """A relation between ``keys`` (see :class:`Relation`)."""
-    return Relation(tuple(keys), holds, says, why)
+    return Relation(tuple(keys), holds, says, why, detail)
 
 
 def le(a: str, b: str, why: str = "") -> Relation:

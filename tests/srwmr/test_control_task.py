@@ -42,6 +42,25 @@ def test_load_threshold_halts_then_the_reply_ends_the_action():
     assert c.k == 1  # the next action of the plan runs
 
 
+def test_a_plan_whose_step_the_operator_cut_short_is_no_success():
+    """The reply to a reminder ends the action and the plan moves on; at the plan's end the step that
+    was cut short is named and the trial stops as a halt (``stuck``), not as a completed plan: a
+    plan without a goal line (T1, T3, T10, the ik group) would otherwise read ``success``."""
+    c = _ctl([Step("RCLM", v=0.0, clearance=0.33)], reply_s=1.0)
+    bad = [0.0, 1400.0, 368, 368, 368, 368]  # W_diff 1400 N > 1300 N (MC#10)
+    for k in range(0, 101):
+        c(Obs(0.01 * k, load=bad if k < 50 else None))
+    assert c.mode == "DONE" and c.stop is not None and c.stop.kind == HALT
+    assert "step 1 (RCLM" in c.stop.reason and ("MC10" in c.stop.reason or "MC11" in c.stop.reason)
+    # a plan that ends on its own is a completed plan
+    d = _ctl([Step("RCLM", v=0.0, clearance=0.25, hold_s=0.05)])
+    for k in range(0, 200):
+        d(Obs(0.01 * k))
+        if d.stop is not None:
+            break
+    assert d.stop is not None and d.stop.kind != HALT and not d.abandoned
+
+
 def test_no_reply_reverses_and_two_reminders_force_a_return():
     c = _ctl([Step("RCLM", v=0.0, clearance=0.33)], reply_s=None, wait_s=0.5)
     bad = [0.0, 1400.0, 368, 368, 368, 368]

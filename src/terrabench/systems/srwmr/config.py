@@ -9,6 +9,7 @@ from terrabench.config import Relation, check_fields, clock_relations, ordered, 
 from terrabench.sim.physics import PhysicsConfig
 from terrabench.systems.srwmr.constraints import ALLOWED_LIFTS, Scales
 from terrabench.systems.srwmr.ik import IKLimits
+from terrabench.systems.srwmr.kinematics import clearance_reach
 from terrabench.systems.srwmr.robot import RobotConfig
 from terrabench.systems.srwmr.soils import SOIL_NAMES
 
@@ -103,12 +104,17 @@ class ProtocolConfig:
         check_fields(self)
 
 
+def _within(x: float, bounds: tuple[float, float]) -> bool:
+    return bounds[0] <= x <= bounds[1]
+
+
 @dataclass(frozen=True)
 class SRWMRConfig:
     """Everything a trial needs besides (method, instance, seed).
 
     Relations (checked by ``validate`` once every ``--set`` is applied): the rocker and the
-    IK's delta ranges are (lower, upper) with lower < upper, the IK's inside the joint's stops; the
+    IK's delta ranges are (lower, upper) with lower < upper, the IK's inside the joint's stops, and
+    the start clearance one the linkage reaches inside the IK's range; the
     control period is a whole number of physics steps, and the slow check and the stored series are
     not faster than the controller (both run at control instants).
     """
@@ -119,6 +125,10 @@ class SRWMRConfig:
         relation(("limits.delta_range", "robot.rocker_range"), lambda d, q: -q[1] <= d[0] and d[1] <= -q[0],
                  "{0} must lie within the rocker joint's stops {1} read as closing angles (delta = -q)",
                  why="the IK may not command a closing angle the joint cannot reach"),
+        relation(("scene.clearance", "limits.delta_range", "robot"), lambda c, d, r: _within(c, clearance_reach(r, d)),
+                 "{0} must be a clearance the linkage reaches with closing angles inside {1}",
+                 why="the start posture is solved for it; outside, the solver stops at its bracket's end",
+                 detail=lambda c, d, r: "this linkage reaches %.3f-%.3f m" % clearance_reach(r, d)),
         *clock_relations(),
     )
 

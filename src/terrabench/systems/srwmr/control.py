@@ -139,6 +139,8 @@ class RoverController(MachineController):
         self.clutch = (False, False)
         self.legged_log: list[dict] = []
         self.short_lifts: list[str] = []  # legged steps whose lift stayed below legged.DRIVE_SHARE
+        self.abandoned: list[str] = []  # steps the operator's reply ended before their own end
+        self.halt_why = ""  # the last reminder's reason
         # RCM's hold of the still set: its wheel indices, rotation over the ground, last zeta
         self.still_key: tuple | None = None
         self.still_rot = np.zeros(6)
@@ -192,10 +194,13 @@ class RoverController(MachineController):
         self.clutch = (False, False)
         if self.k >= len(self.plan):
             self.machine.go(obs.t, "DONE", reason)
-            if self.short_lifts:
+            if self.short_lifts or self.abandoned:
                 # the plan reached its end, but a legged step's lift did not happen (its wheel rolled on
-                # the ground): the task (lift, roll, lower) was not done, whatever the goal line says
-                why = "plan complete without its lift: " + "; ".join(self.short_lifts)
+                # the ground) or a step was cut short by the operator after a reminder: what the plan
+                # commands was not done, whatever the goal line says
+                why = "; ".join(([f"plan complete without its lift: {'; '.join(self.short_lifts)}"]
+                                 if self.short_lifts else [])
+                                + ([f"plan complete without {'; '.join(self.abandoned)}"] if self.abandoned else []))
                 self.stop = self.stop or StopRequest(HALT, why)
             else:
                 self.stop = self.stop or StopRequest(DONE, "plan complete")
@@ -337,6 +342,8 @@ class RoverController(MachineController):
             self.halt_t = None
             self.machine.go(obs.t, self.plan[self.k].mode, "operator replied: action ended")
             if not self.action.reply(self, obs):
+                self.abandoned.append(f"the end of step {self.k + 1} ({self.plan[self.k].mode}: the operator "
+                                      f"moved on after {self.halt_why})")
                 self._next(obs, "operator: next action")
             return self._command(obs, np.zeros(5), hold=True)
         if waited >= self.sup.wait_s or self.returning:
@@ -352,6 +359,7 @@ class RoverController(MachineController):
         self.reminders[mode] = n
         self.machine.go(obs.t, "HALT", f"reminder {n}: {reason}")
         self.halt_t = obs.t
+        self.halt_why = reason
         if n >= 2:
             self.returning = True
             self.machine.go(obs.t, "REVERSE", "second reminder in this mode: forced return")

@@ -213,6 +213,14 @@ def delta_for_clearance(cfg: RobotConfig, clearance: float) -> float:
     return 0.5 * (lo + hi)
 
 
+def clearance_reach(cfg: RobotConfig, delta_range) -> tuple[float, float]:
+    """Smallest and largest clearance (m) a posture can be solved for (:func:`delta_for_clearance`)
+    with closing angles inside ``delta_range`` (the IK's) and :data:`CLEARANCE_BRACKET`."""
+    lo = max(delta_range[0], CLEARANCE_BRACKET[0])
+    hi = min(delta_range[1], CLEARANCE_BRACKET[1])
+    return chassis_clearance(cfg, [lo, lo]), chassis_clearance(cfg, [hi, hi])
+
+
 def clearance_range(cfg: RobotConfig) -> tuple[float, float]:
     """Smallest and largest clearance (m) the rocker range reaches."""
     lo, hi = cfg.rocker_range

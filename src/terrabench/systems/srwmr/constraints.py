@@ -203,10 +203,9 @@ def eta_roll_rate(vz: np.ndarray, sc: Scales) -> float:
     return abs(float(vz[0] - vz[1])) / sc.vz9
 
 
-def w_diff(loads, grounded=None) -> float:
-    """W_diff = W_max - W_min over the wheels (N)."""
-    w = np.asarray(loads, float)
-    return float(w.max() - w.min())
+def w_diff(loads) -> float:
+    """W_diff = W_max - W_min of one instant's loads (N): :func:`load_figures`."""
+    return float(load_figures(loads)[0])
 
 
 def load_figures(loads, centre: str = "mean") -> tuple[np.ndarray, np.ndarray]:

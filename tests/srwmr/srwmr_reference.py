@@ -117,11 +117,11 @@ def build_qp_reference(
     for j, sg in ((4, 1.0), (5, -1.0)):
         G[j, 3], G[j, 4] = sg * dwb[0] * ts, -sg * dwb[1] * ts
         h[j] = (k5 * sc.dd - sg * (wb[0] - wb[1])) if np.isfinite(k5) else big
-    # MC6: |J_front,x rate_s| <= k6 max(|v_side_prev|, v_floor), both signs per side
+    # MC6: |J_front,x rate_s| <= k6 max(|v_side_prev|, v6_floor), both signs per side
     half = cfg.track / 2
     v_side = np.array([st.u_prev[0] - st.u_prev[2] * half, st.u_prev[0] + st.u_prev[2] * half])
     for s in (0, 1):
-        lim6 = k6 * max(abs(v_side[s]), sc.v_floor) if np.isfinite(k6) else big
+        lim6 = k6 * max(abs(v_side[s]), sc.v6_floor) if np.isfinite(k6) else big
         G[6 + 2 * s, 3 + s], G[7 + 2 * s, 3 + s] = J[s, 0], -J[s, 0]
         h[6 + 2 * s] = h[7 + 2 * s] = lim6
     # MC7 / MC8: change of vx and wz per step

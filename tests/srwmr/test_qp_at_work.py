@@ -79,8 +79,8 @@ def test_predicted_ratio_of_a_command_on_a_row_boundary_is_its_kappa():
 
 @pytest.mark.parametrize("qp", [True, False])
 def test_controller_a_fast_lift_is_held_at_mc6_by_the_qp_and_exceeds_it_without(qp):
-    """Standing, a 10 mm/s lift: the nominal closing rate drives the front wheels at 2.1x the side's
-    speed floor (MC#6, RCLM kappa 0.9); the QP cuts it to kappa in every period."""
+    """Standing, a 10 mm/s lift: the nominal closing rate drives the front wheels at ~9.5 mm/s, 1.2x
+    MC#6's side-speed floor (8 mm/s; RCLM kappa 0.9); the QP cuts it to kappa in every period."""
     c = _ctl([Step("RCLM", v=0.0, vz=0.01, clearance=0.40, trace=True, qp=qp)])
     for k in range(50):
         cmd = c(Obs(0.01 * k))
@@ -88,12 +88,12 @@ def test_controller_a_fast_lift_is_held_at_mc6_by_the_qp_and_exceeds_it_without(
     k6 = mc.thresholds("RCLM")[4]
     assert tr["periods"] >= 45 and tr["changed"] >= 0.9 * tr["periods"]
     assert tr["active_rows"]["MC6"] == tr["changed"] and tr["violated_rows"]["MC6"] >= tr["changed"]
-    assert tr["max_predicted_nominal"]["MC6"] > 2.0 * k6
+    assert tr["max_predicted_nominal"]["MC6"] > 1.25 * k6
     if qp:
         assert tr["max_measured"]["MC6"] <= k6 + TOL and cmd.ratios[4] == pytest.approx(k6, abs=TOL)
         assert c.info()["qp_limited_share"] >= 0.9
     else:
-        assert tr["bypassed"] and tr["max_measured"]["MC6"] > 2.0 * k6 and cmd.ratios[4] > 2.0 * k6
+        assert tr["bypassed"] and tr["max_measured"]["MC6"] > 1.25 * k6 and cmd.ratios[4] > 1.25 * k6
 
 
 def _trial(inst, timeout):
@@ -107,10 +107,10 @@ def test_sim_mc6_fast_lift_qp_active_and_ratio_at_kappa_where_the_nominal_exceed
     r = _trial("ik-mc6-fastlift", 4.0)
     tr = r.info["qp_trace"]
     assert tr["changed"] / tr["periods"] > 0.9 and tr["active_rows"]["MC6"] / tr["periods"] > 0.9
-    assert tr["max_measured"]["MC6"] <= k6 + TOL and tr["max_predicted_nominal"]["MC6"] > 2.0 * k6
+    assert tr["max_measured"]["MC6"] <= k6 + TOL and tr["max_predicted_nominal"]["MC6"] > 1.25 * k6
     assert r.metrics["max_eta_MC6"] <= k6 + TOL
     n = _trial("ik-mc6-fastlift-noqp", 4.0)
-    assert n.info["qp_trace"]["max_measured"]["MC6"] > 2.0 * k6 and n.metrics["max_eta_MC6"] > 2.0 * k6
+    assert n.info["qp_trace"]["max_measured"]["MC6"] > 1.25 * k6 and n.metrics["max_eta_MC6"] > 1.25 * k6
 
 
 def test_sim_mc5_one_side_lift_qp_holds_mc9_and_mc5_without_a_halt_the_twin_halts():
@@ -200,6 +200,6 @@ def test_report_section_tables_every_ik_trial_and_draws_one_figure_per_case():
     assert name == "qp_ik.csv" and [ln["instance"] for ln in lines] == ["ik-mc6-fastlift", "ik-mc6-fastlift-noqp"]
     assert lines[0]["QP changed %"] > 90 and lines[0]["active MC6 %"] > 90
     assert lines[0]["max eta / kappa (saturated MC)"] == pytest.approx(1.0, abs=1e-6)
-    assert lines[1]["max eta / kappa (saturated MC)"] > 2.0
+    assert lines[1]["max eta / kappa (saturated MC)"] > 1.25
     assert page.figures == ["qp_ik-mc6-fastlift.png"]
     assert qp_lines(rows[2:]) == []

@@ -77,7 +77,7 @@ CONSTRAINTS = (
     MotionConstraint("MC3", "front-middle wheelbase reduction", "wb_min", 1, (0, 2), False),
     MotionConstraint("MC4", "left-right hinge-height asymmetry (roll)", "dh", 2, (2, 4), True, False),
     MotionConstraint("MC5", "left-right wheelbase asymmetry (yaw deflection)", "dd", 3, (4, 6), True, False),
-    MotionConstraint("MC6", "rocker-induced front-wheel speed against the side's speed", "v_floor", 4, (6, 10),
+    MotionConstraint("MC6", "rocker-induced front-wheel speed against the side's speed", "v6_floor", 4, (6, 10),
                      False),
     MotionConstraint("MC7", "change of the forward speed per step", "v_floor", 5, (10, 12), False),
     MotionConstraint("MC8", "change of the yaw rate per step", "w_floor", 6, (12, 14), False),
@@ -119,7 +119,12 @@ class Scales:
                           doc="MC#3 least front-middle axle distance before the wheels touch (2 r + 50 mm)")
     dh: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#4 left-right hinge-height asymmetry scale")
     dd: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#5 left-right wheelbase asymmetry scale")
-    v_floor: float = param(0.005, gt=0.0, le=0.5, unit="m/s", doc="MC#6/#7 speed floor under the ratios")
+    v6_floor: float = param(0.008, gt=0.0, le=0.5, unit="m/s",
+                            doc="MC#6 side-speed floor: standing still, the rocker-induced front-wheel speed may "
+                                "reach kappa x this (0.9 x 8 = 7.2 mm/s) [R: the paper's standstill motions ran "
+                                "their front wheel at 7 mm/s (Task 6's lift) and 4.9-7.2 mm/s (Task 3) within "
+                                "MC#6, docs/assumptions-srwmr.md]")
+    v_floor: float = param(0.005, gt=0.0, le=0.5, unit="m/s", doc="MC#7 speed floor under the ratio")
     w_floor: float = param(0.005, gt=0.0, le=0.5, unit="rad/s", doc="MC#8 yaw-rate floor")
     vz9: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#9 left-right vertical speed difference scale")
     w_diff: float = param(1300.0, gt=0.0, le=1e4, unit="N", doc="MC#10 W_diff scale [S 1100 SWLM / 1300 DWLM]")
@@ -190,7 +195,7 @@ def eta_yaw(wb: np.ndarray, sc: Scales) -> float:
 
 def eta_rocker_vs_side(dx_front: np.ndarray, v_side: np.ndarray, sc: Scales) -> float:
     """MC#6: the rocker-induced front-wheel speed over the side's commanded speed (max of sides)."""
-    return float(np.max(np.abs(dx_front) / np.maximum(np.abs(v_side), sc.v_floor)))
+    return float(np.max(np.abs(dx_front) / np.maximum(np.abs(v_side), sc.v6_floor)))
 
 
 def eta_change(new: float, old: float, floor: float) -> float:
@@ -258,8 +263,9 @@ def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, loa
     r[2] = abs(dz[0] * delta[0] - dz[1] * delta[1]) / dh
     r[3] = abs(wbl - wbr) / dd
     if u3 != 0.0 or u4 != 0.0:
-        r[4] = max(abs(J[0, 0] * u3) / max(abs(u0 - u2 * half), v_floor),
-                   abs(J[1, 0] * u4) / max(abs(u0 + u2 * half), v_floor))
+        v6_floor = k[10]
+        r[4] = max(abs(J[0, 0] * u3) / max(abs(u0 - u2 * half), v6_floor),
+                   abs(J[1, 0] * u4) / max(abs(u0 + u2 * half), v6_floor))
     r[5] = abs(u0 - u_prev[0]) / max(abs(u_prev[0]), v_floor)
     r[6] = abs(u2 - u_prev[2]) / max(abs(u_prev[2]), w_floor)
     r[7] = abs(dz[0] * u3 - dz[1] * u4) / vz9
@@ -269,7 +275,7 @@ def _ratios_kernel(mc2_on, rim_cmd, mu, u_prev, J, ddelta, dz, wb, delta, u, loa
         lo, hi = min(lo, load[i]), max(hi, load[i])
         total += load[i]
     mean = total / 6  # numpy's order for 6 values (one after the other from 0)
-    if k[10] != 0.0:  # W_fmr about the midrange of W_max and W_min (Scales.w_fmr_centre)
+    if k[11] != 0.0:  # W_fmr about the midrange of W_max and W_min (Scales.w_fmr_centre)
         mean = 0.5 * (hi + lo)
     r[8] = (hi - lo) / w_diff_scale
     r[9] = max(hi - mean, mean - lo) / w_fmr_scale
@@ -297,7 +303,7 @@ def ratio_consts(cfg, sc: Scales) -> np.ndarray:
     """The scalars :func:`period_ratios` reads, in the kernel's order (a controller builds them
     once and passes them as ``k``)."""
     return np.array((cfg.wheelbase_fm, cfg.track / 2, sc.v2, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
-                     sc.w_diff, sc.w_fmr, 1.0 if sc.w_fmr_centre == "midrange" else 0.0))
+                     sc.w_diff, sc.w_fmr, sc.v6_floor, 1.0 if sc.w_fmr_centre == "midrange" else 0.0))
 
 
 _NO_RIM = np.zeros(6)

@@ -89,7 +89,7 @@ def build_qp(
 def kernel_consts(cfg: RobotConfig, sc: mc.Scales, lim: IKLimits, ts: float) -> np.ndarray:
     """The scalars :func:`_qp_kernel` reads after ``u_nom`` (its ``k``), in its order."""
     return np.array((cfg.wheelbase_fm, cfg.track / 2, ts, sc.dh, sc.dd, sc.v_floor, sc.w_floor, sc.vz9,
-                     lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1]), float)
+                     lim.v_max, lim.w_max, lim.rate_max, lim.delta_range[0], lim.delta_range[1], sc.v6_floor), float)
 
 
 @numba.njit(cache=True)
@@ -101,14 +101,14 @@ def _qp_kernel(J, d, wb, dz, kappa, u_prev, u_nom, k, G, h, lb, ub):
     (the solver is needed). ``k``: :func:`kernel_consts`."""
     d0, d1, wbl, wbr, dz0, dz1, u0, u2 = d[0], d[1], wb[0], wb[1], dz[0], dz[1], u_prev[0], u_prev[2]
     wb0, half, ts, dh, dd, v_floor, w_floor, vz9 = k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7]
-    v_max, w_max, rate_max, lo, hi = k[8], k[9], k[10], k[11], k[12]
+    v_max, w_max, rate_max, lo, hi, v6_floor = k[8], k[9], k[10], k[11], k[12], k[13]
     j00, j10 = J[0, 0], J[1, 0]
     dwb0, dwb1 = j00 - J[2, 0], j10 - J[3, 0]
     k3, k4, k5, k6, k7, k8, k9 = kappa[1], kappa[2], kappa[3], kappa[4], kappa[5], kappa[6], kappa[7]
     big = 1e6
     hl, hr = dz0 * d0, dz1 * d1
-    lim6l = k6 * max(abs(u0 - u2 * half), v_floor) if math.isfinite(k6) else big
-    lim6r = k6 * max(abs(u0 + u2 * half), v_floor) if math.isfinite(k6) else big
+    lim6l = k6 * max(abs(u0 - u2 * half), v6_floor) if math.isfinite(k6) else big
+    lim6r = k6 * max(abs(u0 + u2 * half), v6_floor) if math.isfinite(k6) else big
     lim7 = k7 * max(abs(u0), v_floor) if math.isfinite(k7) else big
     lim8 = k8 * max(abs(u2), w_floor) if math.isfinite(k8) else big
     lim9 = k9 * vz9 if math.isfinite(k9) else big

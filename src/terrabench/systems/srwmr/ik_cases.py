@@ -18,7 +18,7 @@ projection (seed 001 eq. 41) changes the nominal command for a large share of th
   chassis keeps most of the slope's roll (the paper's MC#4 with the slope, not an asymmetric lift,
   as its cause);
 * ``ik-mc6-fastlift``: standing, a lift at 10 mm/s (2.8x Task 3's 3.6 mm/s) to 400 mm: MC#6 (the
-  rocker-induced front-wheel speed against the side's speed, floor 5 mm/s, kappa 0.9) limits the
+  rocker-induced front-wheel speed against the side's speed, floor 8 mm/s, kappa 0.9) limits the
   closing rate;
 * ``ik-mc78-step``: from standstill a step to 25 mm/s with a 0.03 rad/s differential yaw rate
   [S Task 15's rate] while lowering, then the yaw rate reversed: MC#7 / MC#8 (the per-period

@@ -54,7 +54,7 @@ def row_norms(u_prev: np.ndarray, sc: mc.Scales, half_track: float) -> np.ndarra
     """(16,) the normaliser of each QP row (:func:`~terrabench.systems.srwmr.ik._qp_kernel`):
     ``kappa + (G_i u - h_i) / n_i`` is the row's ratio one period ahead under ``u``."""
     u0, u2 = float(u_prev[0]), float(u_prev[2])
-    nl, nr = max(abs(u0 - u2 * half_track), sc.v_floor), max(abs(u0 + u2 * half_track), sc.v_floor)
+    nl, nr = max(abs(u0 - u2 * half_track), sc.v6_floor), max(abs(u0 + u2 * half_track), sc.v6_floor)
     return np.array([1.0, 1.0, sc.dh, sc.dh, sc.dd, sc.dd, nl, nl, nr, nr,
                      max(abs(u0), sc.v_floor), max(abs(u0), sc.v_floor),
                      max(abs(u2), sc.w_floor), max(abs(u2), sc.w_floor), sc.vz9, sc.vz9])

@@ -132,7 +132,9 @@ class SRWMRConfig:
         *clock_relations(),
     )
 
-    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.0005, iterations=30))
+    #: 0.25 ms: the soil force's stiffness below v_eps grows with the wheel's load, and the fitted linkage's
+    #: middle wheels (577 N at rest, ~1,000 N in a legged lift) need it (docs/assumptions-srwmr.md, "Physics step")
+    physics: PhysicsConfig = field(default_factory=lambda: PhysicsConfig(timestep=0.00025, iterations=30))
     robot: RobotConfig = field(default_factory=RobotConfig)
     soil: SoilConfig = field(default_factory=SoilConfig)
     scene: SceneConfig = field(default_factory=SceneConfig)

@@ -274,3 +274,16 @@ def test_the_bogie_range_holds_the_level_bogie_over_every_clearance():
         assert lo + 0.3 < float(z.min()) and float(z.max()) < hi - 0.3, (cl, z)
     with pytest.raises(ValueError, match="bogie_range"):
         RobotConfig(bogie_range=(0.1, 1.0))
+
+
+def test_a_legged_roll_that_cannot_advance_ends_in_a_health_halt():
+    """T12 lift100 DWLM: the front pair's lift stops at ~26 mm (the reference wheels unload), the
+    rover rolls on all six wheels with the middle pair carrying ~950 N each, and at 100 % slip the
+    loose soil gives those wheels a negative pull: commanded forward, the rover creeps back. The
+    health monitor watches the legged roll as it watches WRM and halts it (body slip > 1: moving
+    against the command); before it watched WRM alone and the rover backed 3.1 m to the 400 s limit."""
+    (spec,) = SYSTEM.plan(methods=["dwlm"], instances=["t12-lift100"])
+    r = SYSTEM.run_trial(spec)
+    assert r.status == "stuck" and r.info["reason"].startswith("health halt: body slip")
+    assert float(r.info["reason"].split("body slip ")[1].split(" ")[0]) > 1.0
+    assert r.metrics["sim_time"] < 150.0 and r.metrics["progress"] < 0.0

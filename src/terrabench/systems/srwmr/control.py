@@ -19,8 +19,9 @@ Supervisor (sec. 7): a constraint ratio reaching its threshold halts the motion 
 operator; the scripted operator answers after ``reply_s`` (None: never): an answer ends the
 current action (the plan goes on), no answer within ``wait_s`` runs the mode back to its start
 state; two reminders in one mode force that return. WRM switches to RCM when the climbing
-efficiency over ``eff_window`` s drops below ``eff_min`` (10 %); the health monitor halts for
-good when the body slip estimate stays at or above ``health_slip`` (0.96) for ``health_s``.
+efficiency over ``eff_window`` s drops below ``eff_min`` (10 %); the health monitor (WRM and a
+legged step's roll) halts for good when the body slip estimate stays at or above ``health_slip``
+(0.96) for ``health_s`` while the rover is commanded to move.
 Mode changes are :class:`~terrabench.systems.base.Transition` records (``info()["events"]``).
 """
 
@@ -253,7 +254,9 @@ class RoverController(MachineController):
         if nom.done:
             self._next(obs, f"{st.mode} action complete")
             return self._command(obs, np.zeros(5), hold=True)
-        if st.mode == "WRM":
+        if st.mode == "WRM" or st.mode in LEGGED:
+            # (a legged step rolls on its grounded wheels: the same health monitor; its own speed is
+            # zero outside the roll, where the monitor reads nothing)
             cmd = self._monitor_rolling(obs, st, x)
             if cmd is not None:
                 return cmd
@@ -292,11 +295,12 @@ class RoverController(MachineController):
 
     # ---------------------------------------------------------------- supervisor
     def _monitor_rolling(self, obs, st: Step, x: float) -> Command | None:
-        """WRM: the body-slip estimate, the health monitor and the climbing efficiency (the switch
-        to RCM); a Command when one of them acts, else None."""
+        """WRM and a legged step's roll: the body-slip estimate and the health monitor; WRM also the
+        climbing efficiency (the switch to RCM, ``Step.auto_rcm``); a Command when one acts, else None."""
         ts = self.ts
         v_cmd = float(self.u_prev[0])
         if abs(v_cmd) <= 1e-4:
+            self.health_t = None  # standing: no slip to watch (a later roll starts its own count)
             return None
         # s_b = 1 - v_b / v_cmd from filtered speeds (the ratio of raw samples explodes while the
         # command ramps up from zero)

@@ -199,10 +199,12 @@ class RoverController(MachineController):
                 # the plan reached its end, but a legged step's lift did not happen (its wheel rolled on
                 # the ground) or a step was cut short by the operator after a reminder: what the plan
                 # commands was not done, whatever the goal line says
-                why = "; ".join(([f"plan complete without its lift: {'; '.join(self.short_lifts)}"]
-                                 if self.short_lifts else [])
-                                + ([f"plan complete without {'; '.join(self.abandoned)}"] if self.abandoned else []))
-                self.stop = self.stop or StopRequest(HALT, why)
+                why = []
+                if self.short_lifts:
+                    why.append("plan complete without its lift: " + "; ".join(self.short_lifts))
+                if self.abandoned:
+                    why.append("plan complete without " + "; ".join(self.abandoned))
+                self.stop = self.stop or StopRequest(HALT, "; ".join(why))
             else:
                 self.stop = self.stop or StopRequest(DONE, "plan complete")
             return

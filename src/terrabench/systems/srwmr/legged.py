@@ -9,9 +9,9 @@ runs the actions of Fig. 5 for one wheel (SWLM) or one pair at the same position
 
 ``shift``   change the clearance so the side's load point moves behind the middle wheel (front
             lift: chassis raised) or ahead of it (rear lift: chassis lowered); the middle lift needs
-            no shift. In this geometry raising the chassis moves the middle axle ahead of the hinge
-            (+139 mm at 500 mm clearance) while lowering it moves the axle back by 3 mm at most:
-            the rear wheel can hardly be lifted (the paper lifted it 15 mm).
+            no shift. On the fitted linkage the middle axle stands 24 mm ahead of the CoM at 500 mm
+            clearance (a front wheel can leave the ground) and 213 / 229 mm behind it at 250 / 150
+            mm (a rear wheel can); docs/assumptions-srwmr.md, "CoM shift clearance".
 ``clutch``  engage the clutch of the lifted side(s) (the bogie locked to the rear rocker section).
 ``lift``    turn the lifted side's rocker (open for a front or rear lift, close for a middle lift)
             until the wheel's axle has risen ``height`` above the side's grounded axles, estimated
@@ -61,7 +61,7 @@ DRIVE_SHARE = 0.5
 #: DWLM lift: the reference wheels must keep this share of the nominal wheel load [R]
 REF_SHARE = 0.1
 #: SWLM roll levelling gain (1/s) of the unclutched side [R]: a 2 s time constant, slow against the
-#: 10 ms control period and fast against the ~7 mm/s hinge rise of a middle lift
+#: 10 ms control period and fast against the ~8 mm/s hinge rise of a middle lift (fitted linkage)
 LEVEL_GAIN = 0.5
 
 

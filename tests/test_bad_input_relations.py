@@ -126,3 +126,16 @@ def test_env_actions_must_be_numbers(env_id):
             env.step(action)
     env.step([0] * n)  # Python ints are numbers
     env.close()
+
+
+def test_a_relation_names_a_bound_computed_from_other_fields_in_its_one_line():
+    """``Relation.detail``: the error adds what is valid for the values given (here the rover's start
+    clearance against what its linkage reaches inside the IK's closing-angle range), and the bound
+    follows the fields it is computed from (a narrower IK range reaches less)."""
+    sysobj = catalog.system("srwmr")
+    with pytest.raises(RelationError, match=r"scene.clearance=0.53 .* this linkage reaches 0.058-0.526 m"):
+        sysobj.plan(instances=["t1-loose"], methods=["wrm"], overrides={"scene.clearance": 0.53})
+    with pytest.raises(RelationError, match=r"this linkage reaches 0.058-0.4\d\d m"):
+        sysobj.plan(instances=["t1-loose"], methods=["wrm"],
+                    overrides={"scene.clearance": 0.5, "limits.delta_range": [-0.6, 0.8]})
+    assert len(sysobj.plan(instances=["t1-loose"], methods=["wrm"], overrides={"scene.clearance": 0.52})) == 1

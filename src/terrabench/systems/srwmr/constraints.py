@@ -233,7 +233,8 @@ def w_fmr(loads, centre: str = "mean") -> float:
 
 def load_ratios(loads, sc: Scales) -> tuple[float, float]:
     """(MC#10, MC#11) ratios."""
-    return w_diff(loads) / sc.w_diff, w_fmr(loads, sc.w_fmr_centre) / sc.w_fmr
+    wd, wf = load_figures(loads, sc.w_fmr_centre)
+    return float(wd) / sc.w_diff, float(wf) / sc.w_fmr
 
 
 def mc2_ratio(v_cmd: np.ndarray, v_kin: np.ndarray, sc: Scales) -> float:

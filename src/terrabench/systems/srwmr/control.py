@@ -297,8 +297,9 @@ class RoverController(MachineController):
 
     # ---------------------------------------------------------------- supervisor
     def _monitor_rolling(self, obs, st: Step, x: float) -> Command | None:
-        """WRM and a legged step's roll: the body-slip estimate and the health monitor; WRM also the
-        climbing efficiency (the switch to RCM, ``Step.auto_rcm``); a Command when one acts, else None."""
+        """WRM and a legged step's roll: the body-slip estimate and the health monitor; WRM also keeps
+        the climbing efficiency's window (the switch to RCM, ``Step.auto_rcm``), which a legged roll
+        neither reads nor fills; a Command when one acts, else None."""
         ts = self.ts
         v_cmd = float(self.u_prev[0])
         if abs(v_cmd) <= 1e-4:
@@ -319,6 +320,8 @@ class RoverController(MachineController):
                 return self._command(obs, np.zeros(5), hold=True)
         else:
             self.health_t = None
+        if st.mode != "WRM":
+            return None  # a legged roll: the health monitor only (the climbing efficiency is WRM's)
         self.cmd_prog += v_cmd * ts
         hist, window = self.hist, self.sup.eff_window
         hist.append((obs.t, x, self.cmd_prog))

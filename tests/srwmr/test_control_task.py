@@ -2,13 +2,10 @@
 
 import numpy as np
 import pytest
+from fake_rover import Obs, controller
 
 from terrabench.sim.checks import HALT
 from terrabench.systems.base import Transition
-from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.config import SupervisorConfig
-from terrabench.systems.srwmr.control import RoverController
-from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.modes import Step
 from terrabench.systems.srwmr.robot import RobotConfig
 from terrabench.systems.srwmr.scenarios import SYSTEM
@@ -16,20 +13,8 @@ from terrabench.systems.srwmr.scenarios import SYSTEM
 CFG = RobotConfig()
 
 
-class Obs:
-    def __init__(self, t=0.0, load=None, v=0.0, delta=(0.0, 0.0)):
-        self.t, self.delta, self.ddelta = t, np.array(delta, float), np.zeros(2)
-        self.mu, self.spin = np.zeros(6), np.zeros(6)
-        self.load = np.full(6, 368.0) if load is None else np.asarray(load, float)
-        self.xy, self.yaw, self.v_body, self.rpy = np.zeros(2), 0.0, np.array([v, 0.0]), np.zeros(3)
-
-
-def _ctl(plan, **sup):
-    return RoverController(plan, CFG, SupervisorConfig(**sup), IKLimits(), mc.Scales(), 0.01)
-
-
 def test_load_threshold_halts_then_the_reply_ends_the_action():
-    c = _ctl([Step("RCLM", v=0.0, clearance=0.33), Step("RCLM", v=0.0, clearance=0.25)], reply_s=1.0)
+    c = controller([Step("RCLM", v=0.0, clearance=0.33), Step("RCLM", v=0.0, clearance=0.25)], reply_s=1.0)
     bad = [0.0, 1400.0, 368, 368, 368, 368]  # W_diff 1400 N > 1300 N (MC#10)
     cmd = c(Obs(0.0, load=bad))
     assert c.mode == "HALT" and np.all(cmd.u == 0)
@@ -46,14 +31,14 @@ def test_a_plan_whose_step_the_operator_cut_short_is_no_success():
     """The reply to a reminder ends the action and the plan moves on; at the plan's end the step that
     was cut short is named and the trial stops as a halt (``stuck``), not as a completed plan: a
     plan without a goal line (T1, T3, T10, the ik group) would otherwise read ``success``."""
-    c = _ctl([Step("RCLM", v=0.0, clearance=0.33)], reply_s=1.0)
+    c = controller([Step("RCLM", v=0.0, clearance=0.33)], reply_s=1.0)
     bad = [0.0, 1400.0, 368, 368, 368, 368]  # W_diff 1400 N > 1300 N (MC#10)
     for k in range(0, 101):
         c(Obs(0.01 * k, load=bad if k < 50 else None))
     assert c.mode == "DONE" and c.stop is not None and c.stop.kind == HALT
     assert "step 1 (RCLM" in c.stop.reason and ("MC10" in c.stop.reason or "MC11" in c.stop.reason)
     # a plan that ends on its own is a completed plan
-    d = _ctl([Step("RCLM", v=0.0, clearance=0.25, hold_s=0.05)])
+    d = controller([Step("RCLM", v=0.0, clearance=0.25, hold_s=0.05)])
     for k in range(0, 200):
         d(Obs(0.01 * k))
         if d.stop is not None:
@@ -62,7 +47,7 @@ def test_a_plan_whose_step_the_operator_cut_short_is_no_success():
 
 
 def test_no_reply_reverses_and_two_reminders_force_a_return():
-    c = _ctl([Step("RCLM", v=0.0, clearance=0.33)], reply_s=None, wait_s=0.5)
+    c = controller([Step("RCLM", v=0.0, clearance=0.33)], reply_s=None, wait_s=0.5)
     bad = [0.0, 1400.0, 368, 368, 368, 368]
     c(Obs(0.0, load=bad, delta=(0.1, 0.1)))
     c.step_start = (np.zeros(2), 0.0, np.array([0.0, 0.0]), 0.0)
@@ -71,7 +56,7 @@ def test_no_reply_reverses_and_two_reminders_force_a_return():
         cmd = c(Obs(0.01 * k, delta=(0.1, 0.1)))
     assert any(e.dst == "REVERSE" and "no reply" in e.reason for e in c.events)
     assert cmd.u[3] < 0 and cmd.u[4] < 0  # opening back towards the start angles
-    c2 = _ctl([Step("RCLM", v=0.0, clearance=0.33)], reply_s=0.1)
+    c2 = controller([Step("RCLM", v=0.0, clearance=0.33)], reply_s=0.1)
     c2(Obs(0.0, load=bad))
     for k in range(1, 30):
         c2(Obs(0.01 * k, load=bad))
@@ -79,7 +64,7 @@ def test_no_reply_reverses_and_two_reminders_force_a_return():
 
 
 def test_health_monitor_halts_wrm_at_slip_096():
-    c = _ctl([Step("WRM", v=0.025, dist=5.0)], health_s=2.0, slip_tau=1.0)
+    c = controller([Step("WRM", v=0.025, dist=5.0)], health_s=2.0, slip_tau=1.0)
     t = 0.0
     for k in range(3000):
         t = 0.01 * k
@@ -93,9 +78,9 @@ def test_health_monitor_halts_wrm_at_slip_096():
 
 def test_unknown_mode_in_a_plan():
     with pytest.raises(ValueError, match="valid: WRM, WCM, RCLM, RCM, SWLM, DWLM"):
-        _ctl([Step("LEGS")])
+        controller([Step("LEGS")])
     with pytest.raises(ValueError, match="allowed lifts"):
-        _ctl([Step("SWLM")])  # a legged step needs a lift set (MC#1)
+        controller([Step("SWLM")])  # a legged step needs a lift set (MC#1)
 
 
 @pytest.mark.parametrize(

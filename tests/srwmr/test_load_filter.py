@@ -8,33 +8,20 @@ the loaded middle wheels' soil force; at the 0.25 ms step T4 has none, so the co
 on the controller with a transient of known length.)"""
 
 import numpy as np
+from fake_rover import Obs, controller
 
-from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.config import SupervisorConfig
-from terrabench.systems.srwmr.control import RoverController
-from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.modes import Step
-from terrabench.systems.srwmr.robot import RobotConfig
 
 #: the six loads at rest, and one with W_fmr 1,000 N > MC#11's 700 N (W_diff 1,200 N < MC#10's 1,300)
 REST = np.full(6, 380.0)
 SPIKE = np.array([1380.0, 180.0, 180.0, 180.0, 180.0, 180.0])
 
 
-class Obs:
-    def __init__(self, t, load):
-        self.t, self.delta, self.ddelta = t, np.zeros(2), np.zeros(2)
-        self.mu, self.spin = np.zeros(6), np.zeros(6)
-        self.load = load
-        self.xy, self.yaw, self.v_body, self.rpy = np.zeros(2), 0.0, np.zeros(2), np.zeros(3)
-
-
 def _reminders(load_tau: float, spike_periods: int) -> list[str]:
     """Reminders over 2 s of an RCLM lift whose loads read SPIKE for ``spike_periods`` periods from 0.5 s."""
-    ctl = RoverController([Step("RCLM", v=0.0, clearance=0.33)], RobotConfig(),
-                          SupervisorConfig(load_tau=load_tau), IKLimits(), mc.Scales(), 0.01)
+    ctl = controller([Step("RCLM", v=0.0, clearance=0.33)], load_tau=load_tau)
     for k in range(200):
-        ctl(Obs(0.01 * k, SPIKE if 50 <= k < 50 + spike_periods else REST))
+        ctl(Obs(0.01 * k, load=SPIKE if 50 <= k < 50 + spike_periods else REST))
     return [e[-1] for e in ctl.info()["events"] if "reminder" in e[-1]]
 
 

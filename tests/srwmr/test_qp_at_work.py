@@ -4,10 +4,9 @@ nominal command (its ``-noqp`` twin) exceeds it; the additions leave every other
 
 import numpy as np
 import pytest
+from fake_rover import Obs, controller
 
 from terrabench.systems.srwmr import constraints as mc
-from terrabench.systems.srwmr.config import SupervisorConfig
-from terrabench.systems.srwmr.control import RoverController
 from terrabench.systems.srwmr.ik import IKLimits, IKState, build_qp
 from terrabench.systems.srwmr.ik_cases import CASES, HALT_TOL, IK_INSTANCES, TARGET_CASES, case_of, variant_of
 from terrabench.systems.srwmr.layouts import instance_ids, layout
@@ -19,18 +18,6 @@ from terrabench.systems.srwmr.scenarios import SYSTEM
 CFG = RobotConfig()
 SC = mc.Scales()
 TOL = 1e-6
-
-
-class Obs:
-    def __init__(self, t=0.0, delta=(0.0, 0.0)):
-        self.t, self.delta, self.ddelta = t, np.array(delta, float), np.zeros(2)
-        self.mu, self.spin = np.zeros(6), np.zeros(6)
-        self.load = np.full(6, 368.0)
-        self.xy, self.yaw, self.v_body, self.rpy = np.zeros(2), 0.0, np.zeros(2), np.zeros(3)
-
-
-def _ctl(plan):
-    return RoverController(plan, CFG, SupervisorConfig(), IKLimits(), SC, 0.01)
 
 
 def test_group_ik_is_registered_with_a_twin_per_case_and_the_other_groups_unchanged():
@@ -54,7 +41,7 @@ def test_group_ik_is_registered_with_a_twin_per_case_and_the_other_groups_unchan
 
 
 def test_a_plan_without_trace_keeps_no_trace_and_its_info_keys():
-    c = _ctl([Step("RCLM", v=0.0, clearance=0.33)])
+    c = controller([Step("RCLM", v=0.0, clearance=0.33)])
     for k in range(5):
         c(Obs(0.01 * k))
     assert c.trace is None and "qp_trace" not in c.info()
@@ -81,7 +68,7 @@ def test_predicted_ratio_of_a_command_on_a_row_boundary_is_its_kappa():
 def test_controller_a_fast_lift_is_held_at_mc6_by_the_qp_and_exceeds_it_without(qp):
     """Standing, a 10 mm/s lift: the nominal closing rate drives the front wheels at ~9.5 mm/s, 1.2x
     MC#6's side-speed floor (8 mm/s; RCLM kappa 0.9); the QP cuts it to kappa in every period."""
-    c = _ctl([Step("RCLM", v=0.0, vz=0.01, clearance=0.40, trace=True, qp=qp)])
+    c = controller([Step("RCLM", v=0.0, vz=0.01, clearance=0.40, trace=True, qp=qp)])
     for k in range(50):
         cmd = c(Obs(0.01 * k))
     tr = c.info()["qp_trace"]
@@ -171,7 +158,7 @@ def test_report_section_tables_every_ik_trial_and_draws_one_figure_per_case():
 
     rows = []
     for inst, qp in (("ik-mc6-fastlift", True), ("ik-mc6-fastlift-noqp", False)):
-        c = _ctl([Step("RCLM", v=0.0, vz=0.01, clearance=0.40, trace=True, qp=qp)])
+        c = controller([Step("RCLM", v=0.0, vz=0.01, clearance=0.40, trace=True, qp=qp)])
         for k in range(30):
             c(Obs(0.01 * k))
         rows.append({"instance": inst, "method": "rclm", "seed": 0, "status": "timeout",

@@ -6,12 +6,10 @@ import math
 
 import numpy as np
 import pytest
+from fake_rover import Obs, controller
 
 from terrabench.systems.srwmr import constraints as mc
 from terrabench.systems.srwmr import layouts as lay
-from terrabench.systems.srwmr.config import SupervisorConfig
-from terrabench.systems.srwmr.control import RoverController
-from terrabench.systems.srwmr.ik import IKLimits
 from terrabench.systems.srwmr.kinematics import (
     STEER_HYSTERESIS,
     axle_positions,
@@ -29,18 +27,6 @@ from terrabench.systems.srwmr.scenarios import SYSTEM
 
 CFG = RobotConfig()
 SIGN = np.array([1.0 if s == "L" else -1.0 for s in WHEEL_SIDE])
-
-
-class Obs:
-    def __init__(self, t=0.0, mu=None):
-        self.t, self.delta, self.ddelta = t, np.zeros(2), np.zeros(2)
-        self.mu = np.zeros(6) if mu is None else np.asarray(mu, float)
-        self.spin, self.load = np.zeros(6), np.full(6, 368.0)
-        self.xy, self.yaw, self.v_body, self.rpy = np.zeros(2), 0.0, np.zeros(2), np.zeros(3)
-
-
-def _ctl(plan):
-    return RoverController(plan, CFG, SupervisorConfig(), IKLimits(), mc.Scales(), 0.01)
 
 
 # ------------------------------------------------------------------ steering fold
@@ -68,7 +54,7 @@ def test_a_heading_across_90_deg_keeps_its_side_near_90_deg():
 def test_steering_in_place_rolls_the_offset_wheels_out_on_both_sides():
     """While WCM steers in place, each wheel's spin rolls out the motion of its offset contact
     along its heading (the left and right offsets point outwards: opposite signs)."""
-    c = _ctl([Step("WCM", v=0.015, dy=0.5)])
+    c = controller([Step("WCM", v=0.015, dy=0.5)])
     cmd = c(Obs(0.0))
     mu_rate = (cmd.steer - 0.0) / 0.01
     assert np.all(mu_rate > 0)
@@ -156,7 +142,7 @@ def test_t9_paths_end_at_b_avoiding_the_obstacle():
 
 
 def test_wcm_crab_steers_to_the_direction_of_dx_dy():
-    c = _ctl([Step("WCM", v=0.015, dx=3.0, dy=2.0)])
+    c = controller([Step("WCM", v=0.015, dx=3.0, dy=2.0)])
     cmd = c(Obs(0.0))
     assert c.steer_goal == pytest.approx(np.full(6, math.atan2(2.0, 3.0)))
     assert np.all(cmd.u == 0)  # steering in place first

@@ -35,6 +35,23 @@ def test_load_figures_and_ratios():
         mc.thresholds("WALK")
 
 
+def test_every_scale_reaches_the_ratio_kernel():
+    """A ``scales`` field a user can set must change a ratio: each one moves the constants the
+    compiled kernel reads (``scales.wb_min`` was declared for MC#3 and read by nothing), and each
+    constraint names a field that exists (MC#3 none: its normaliser is the robot's wheelbase)."""
+    import dataclasses
+
+    names = {f.name for f in dataclasses.fields(mc.Scales)}
+    for c in mc.CONSTRAINTS:
+        assert c.scale is None or c.scale in names, c
+    assert [c.name for c in mc.CONSTRAINTS if c.scale is None] == ["MC3"]
+    base = mc.ratio_consts(CFG, SC)
+    for f in dataclasses.fields(mc.Scales):
+        v = getattr(SC, f.name)
+        other = "midrange" if v == "mean" else v * 1.5
+        assert not np.array_equal(mc.ratio_consts(CFG, dataclasses.replace(SC, **{f.name: other})), base), f.name
+
+
 def test_qp_passes_a_feasible_command_and_saturates_a_jump():
     ik = SaturatedIK(CFG, IKLimits(), SC, 0.01)
     st = IKState(np.array([0.1, 0.1]), np.array([0.02, 0.0, 0.0, 0.0, 0.0]))

@@ -93,7 +93,7 @@ def test_t15_lowering_lengthens_the_wheelbase_and_t10_heights_are_reachable():
     d = delta_for_clearance(CFG, max(lay.T10_HEIGHTS))
     eta = (CFG.wheelbase_fm - wheelbase_front_middle(CFG, [d, d])[0]) / CFG.wheelbase_fm
     k3 = mc.thresholds("RCLM")[1]
-    assert eta < k3 < (CFG.wheelbase_fm - mc.Scales().wb_min) / CFG.wheelbase_fm
+    assert eta < k3 < (CFG.wheelbase_fm - CFG.wheelbase_fm_least) / CFG.wheelbase_fm
 
 
 # ------------------------------------------------------------------ layouts

@@ -48,7 +48,8 @@ class MotionConstraint:
     """One motion constraint MC#k as one definition the IK and the supervisor both read.
 
     ``measures``: the quantity, as the paper states it; ``scale``: the :class:`Scales` field its
-    ratio is normalised by; ``ratio``: its slot in the ratio vector (and in each mode's kappa
+    ratio is normalised by (None: by the robot's own nominal value, MC#3's front-middle wheelbase
+    :attr:`~terrabench.systems.srwmr.robot.RobotConfig.wheelbase_fm`); ``ratio``: its slot in the ratio vector (and in each mode's kappa
     of :data:`THRESHOLDS`); ``qp_rows``: the rows ``[start, stop)`` of the saturated IK's
     ``G u <= h`` that keep it one step ahead (None: not in the QP); ``halts``: the supervisor
     halts when the measured ratio reaches kappa; ``with_clutch``: its QP rows are kept in the
@@ -60,7 +61,7 @@ class MotionConstraint:
 
     name: str
     measures: str
-    scale: str
+    scale: str | None
     ratio: int
     qp_rows: tuple[int, int] | None
     halts: bool
@@ -74,7 +75,7 @@ class MotionConstraint:
 CONSTRAINTS = (
     MotionConstraint("MC2", "commanded rim speeds against those the suspension motion requires", "v2", 0,
                      None, False),
-    MotionConstraint("MC3", "front-middle wheelbase reduction", "wb_min", 1, (0, 2), False),
+    MotionConstraint("MC3", "front-middle wheelbase reduction", None, 1, (0, 2), False),
     MotionConstraint("MC4", "left-right hinge-height asymmetry (roll)", "dh", 2, (2, 4), True, False),
     MotionConstraint("MC5", "left-right wheelbase asymmetry (yaw deflection)", "dd", 3, (4, 6), True, False),
     MotionConstraint("MC6", "rocker-induced front-wheel speed against the side's speed", "v6_floor", 4, (6, 10),
@@ -115,8 +116,6 @@ class Scales:
     """Normalising scales m_i,max of the ratios [R] (docs/assumptions-srwmr.md)."""
 
     v2: float = param(0.01, gt=0.0, le=1.0, unit="m/s", doc="MC#2 wheel-suspension speed mismatch scale")
-    wb_min: float = param(0.35, gt=0.0, le=2.0, unit="m",
-                          doc="MC#3 least front-middle axle distance before the wheels touch (2 r + 50 mm)")
     dh: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#4 left-right hinge-height asymmetry scale")
     dd: float = param(0.10, gt=0.0, le=1.0, unit="m", doc="MC#5 left-right wheelbase asymmetry scale")
     v6_floor: float = param(0.008, gt=0.0, le=0.5, unit="m/s",

@@ -89,9 +89,10 @@ TARGETS = (
            "'clearance 250 mm (150-550 mm in tests)' [S spec]: T10 lifts the chassis to 550 mm, T3 to 480 mm; "
            "the largest clearance the linkage reaches at any closing angle"),
 
-    Target("fm_at_500_m", 0.35, 0.02, "ge",
+    Target("fm_at_500_m", RobotConfig().wheelbase_fm_least, 0.02, "ge",
            "[R] the front and middle wheels do not touch at the front CoM-shift clearance (500 mm; Task 6 "
-           "'lifted to align the CoM at the rear part'): MC#3's least wheelbase, 2 r + 50 mm"),
+           "'lifted to align the CoM at the rear part'): the least wheelbase, 2 r + 50 mm "
+           "(RobotConfig.wheelbase_fm_least)"),
 )
 #: closing angles (rad) searched for the linkage's largest clearance
 _CLOSING = np.linspace(-0.6, 1.5, 43)

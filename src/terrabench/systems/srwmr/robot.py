@@ -36,6 +36,8 @@ SIDES = ("L", "R")
 WHEELS = ("c1", "c2", "c3", "c4", "c5", "c6")
 WHEEL_POS = ("front", "front", "middle", "middle", "rear", "rear")
 WHEEL_SIDE = ("L", "R", "L", "R", "L", "R")
+#: the least gap (m) kept between a front and a middle tyre [R]
+TYRE_GAP = 0.05
 #: contact bits: the robot's links collide with ground and obstacles, wheels with obstacles only
 LINK_BIT, WHEEL_BIT = 1, 2
 
@@ -175,6 +177,13 @@ class RobotConfig:
     def wheelbase_fm(self) -> float:
         """Nominal front-to-middle wheelbase (m) (the normaliser of MC#3)."""
         return self.front_reach - self.middle_x
+
+    @property
+    def wheelbase_fm_least(self) -> float:
+        """The least front-to-middle wheelbase (m) before the tyres touch, with 50 mm between
+        them [R]: the bound MC#3's thresholds keep the wheelbase above (tests) and the linkage
+        fit's target at the front CoM shift's clearance."""
+        return 2 * self.wheel_radius + TYRE_GAP
 
     @property
     def nose(self) -> float:

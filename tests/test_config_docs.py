@@ -132,3 +132,46 @@ def test_the_walk_finds_every_section_and_names_class_and_field():
     assert problems[0].startswith(f"{name}: its docstring has an 'Attributes:' block")
     assert problems[1].startswith(f"{name}.y: param() has no doc")
     assert problems[2].startswith(f"{name}.z: not declared with param()")
+
+
+def _package_sources() -> list[str]:
+    import pathlib
+
+    import terrabench
+
+    root = pathlib.Path(terrabench.__file__).parent
+    return [p.read_text() for p in sorted(root.rglob("*.py"))]
+
+
+def unread_fields(root: type, instance: typing.Any, sources: list[str]) -> list[str]:
+    """Leaf fields of the tree whose name the package never reads: no attribute access
+    ``.name`` and no string literal ``"name"`` (a getattr, a ``--set`` key built from parts)
+    anywhere but a declaration ``name: ... = param(``. By name, so a field sharing its name with a
+    read one of another section passes; what it catches is a knob nothing reads at all."""
+    out = []
+    for cls in config_tree(root, instance):
+        for f in dataclasses.fields(cls):
+            if _is_section(cls, f, _default(f)):
+                continue
+            read = re.compile(rf"\.{f.name}\b|[\"']{f.name}[\"']")
+            if not any(read.search(src) for src in sources):
+                out.append(f"{_name(cls)}.{f.name}")
+    return out
+
+
+@pytest.mark.parametrize("sid", SYSTEMS)
+def test_every_config_field_is_read_by_the_package(sid):
+    """A field a user can ``--set`` must reach something: three were declared and read by nothing
+    (srwmr ``scales.wb_min``, octopus ``robot.d3``, the map's ``protocol.success_share``)."""
+    sysobj = system(sid)
+    unread = unread_fields(sysobj.config_cls, sysobj.base_config(), _package_sources())
+    assert not unread, f"{sid}: config fields nothing reads (remove them or use them): {unread}"
+
+
+def test_an_unread_field_is_found():
+    @dataclasses.dataclass(frozen=True)
+    class _Unread:
+        zz_never_read_anywhere: float = param(1.0, doc="nothing reads it")
+
+    assert unread_fields(_Unread, None, ["x = cfg.other\n"]) == [f"{_name(_Unread)}.zz_never_read_anywhere"]
+    assert unread_fields(_Unread, None, ["x = cfg.zz_never_read_anywhere\n"]) == []

@@ -49,8 +49,6 @@ class ZooProtocolConfig:
                               doc="stuck: the rearmost point moved less than stuck_progress for this long")
     stuck_progress: float = param(0.03, gt=0, le=10, unit="m", doc="the progress that counts against stuck_time")
     turn_over: float = param(1.2, gt=0, le=math.pi, unit="rad", doc="|roll| or |pitch| of the body beyond this")
-    success_share: float = param(0.8, gt=0, le=1,
-                                 doc="the summary map's 'crossed': success in at least this share of the starts")
     start_jitter: float = param(0.03, ge=0, le=1, unit="m",
                                 doc="seeds > 0 shift the start sideways by up to this (and draw new roughness)")
 

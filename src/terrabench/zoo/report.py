@@ -9,7 +9,9 @@ from typing import Any
 #: per-trial columns of the page's table
 TRIAL_COLUMNS = ("method", "family", "severity", "seed", "status", "success", "progress", "speed", "energy_per_m",
                  "energy_per_m_kg", "max_pitch", "max_roll", "sim_time", "wall_time")
-#: a severity counts as crossed when at least this share of its starts (seeds) succeeded
+#: a severity counts as crossed when at least this share of its starts (seeds) succeeded: a reading of
+#: stored trials, so the report's, not a trial's config (the config's unread `protocol.success_share`
+#: copy of it was removed 2026-12-08)
 CROSSED_SHARE = 0.8
 #: contrasts shown as clips: the hardest severities one robot crosses and another fails
 CONTRASTS = 3

@@ -123,7 +123,6 @@ class RobotConfig:
     l2: float = param(0.45, gt=0, le=1.5, unit="m",
                       doc="forearm length; <= 1.5 m, as the boom (an arm that long cannot carry "
                           "the 94 kg robot)")
-    d3: float = param(0.0, ge=0, unit="m", doc="lateral offset of the forearm")
     link_r: float = param(0.03, gt=0, unit="m", doc="arm link capsule radius")
     tip_r: float = param(0.04, gt=0, unit="m", doc="arm tip sphere radius")
     link_mass: tuple[float, float, float] = param((2.5, 1.5, 0.5), length=3, gt=0, unit="kg",

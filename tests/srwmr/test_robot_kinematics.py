@@ -122,7 +122,7 @@ def test_the_rockers_open_far_enough_for_the_papers_rear_lift_and_stop_with_the_
     assert kin.chassis_clearance(CFG, [stop, stop]) == pytest.approx(0.0, abs=0.002)
     lo = IKLimits().delta_range[0]
     assert lo == pytest.approx(stop + 0.05)  # the IK keeps 0.05 rad off the stop, as at the closing end
-    # Task 13 lifts the rear wheel 200 mm [S] after the rear CoM shift lowers the chassis (150 mm):
+    # Task 13 lifts the rear wheel 200 mm [S] after the rear CoM shift lowers the chassis (175 mm):
     # on rigid flat ground the rise reaches 200 mm before the IK's limit, with room for the soil
     # (the middle wheels sink under ~880 N: -0.48 to -0.50 rad measured in T13 rear DWLM)
     d0 = kin.delta_for_clearance(CFG, SHIFT["rear"])

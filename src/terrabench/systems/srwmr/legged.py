@@ -43,9 +43,12 @@ PHASES = ("shift", "clutch", "lift", "roll", "lower", "release", "restore")
 DWLM_PAIRS = (("c1", "c2"), ("c3", "c4"), ("c5", "c6"))
 #: clearance (m) of the CoM shift before a lift, by wheel position [R]: the front lift needs the
 #: side's load behind the middle axle (chassis raised: 500 mm, inside the tested 150-550 mm [S]);
-#: the rear lift the load ahead of it (chassis lowered to the 150 mm the paper tested); the middle
-#: lift none [S "the CoM does not affect the lifting of the middle wheel"]
-SHIFT = {"front": 0.50, "middle": None, "rear": 0.15}
+#: the rear lift the load ahead of it (chassis lowered [S Task 6: "decreased to align the CoM at the
+#: front part"], to 175 mm: the lowest of 150-250 mm in 25 mm steps from which the paper's largest
+#: rear lift, 200 mm [S Task 13], keeps the body box off loose soil; from 150 mm the lifted side's
+#: box lands at ~185 mm of lift, docs/assumptions-srwmr.md "CoM shift clearance"); the middle lift
+#: none [S "the CoM does not affect the lifting of the middle wheel"]
+SHIFT = {"front": 0.50, "middle": None, "rear": 0.175}
 #: closing-angle direction that lifts a wheel at each position with the clutch engaged (the front
 #: section turns up against the locked bogie when the hinge opens; it turns down when it closes,
 #: which raises the middle axle above the front-rear line)

@@ -105,10 +105,11 @@ class RobotConfig:
                                                   "at 1.2 rad). Opening end: the chassis box's bottom on flat "
                                                   "ground with all six wheels grounded (clearance 0 at delta "
                                                   "-0.648) [R]; it must admit Task 13's 200 mm rear lift from the "
-                                                  "150 mm clearance of the rear CoM shift (delta -0.456 on rigid "
-                                                  "flat ground, -0.48 to -0.50 measured on loose soil). The "
-                                                  "first commit's 0.5 (the earlier geometry's) left no room for "
-                                                  "it (docs/assumptions-srwmr.md)")
+                                                  "rear CoM shift's clearance (175 mm: delta -0.393 on rigid "
+                                                  "flat ground, -0.43 measured on loose soil; from 150 mm, "
+                                                  "the shift's clearance until 2026-12-08: -0.456, -0.48 to "
+                                                  "-0.50). The first commit's 0.5 (the earlier geometry's) "
+                                                  "left no room for it from 150 mm (docs/assumptions-srwmr.md)")
     bogie_range: tuple[float, float] = param((-1.2, 1.6), ge=-3.14, le=3.14, length=2, unit="rad",
                                              doc="bogie_s joint range (relative to the rear section). The bogie "
                                                  "counter-rotates by the closing angle to stay level, so the range "

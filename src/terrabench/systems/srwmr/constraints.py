@@ -49,14 +49,15 @@ class MotionConstraint:
 
     ``measures``: the quantity, as the paper states it; ``scale``: the :class:`Scales` field its
     ratio is normalised by (None: by the robot's own nominal value, MC#3's front-middle wheelbase
-    :attr:`~terrabench.systems.srwmr.robot.RobotConfig.wheelbase_fm`); ``ratio``: its slot in the ratio vector (and in each mode's kappa
-    of :data:`THRESHOLDS`); ``qp_rows``: the rows ``[start, stop)`` of the saturated IK's
-    ``G u <= h`` that keep it one step ahead (None: not in the QP); ``halts``: the supervisor
-    halts when the measured ratio reaches kappa; ``with_clutch``: its QP rows are kept in the
-    lifting modes (False: the symmetric-lift rows a clutched side does not follow). The rows are
-    built by :func:`~terrabench.systems.srwmr.ik.build_qp` and the ratios by
-    :func:`period_ratios` (compiled, one kernel each); tests/srwmr/test_constraints_ik_metrics.py
-    checks that a command on a term's QP boundary gives exactly its kappa as ratio.
+    :attr:`~terrabench.systems.srwmr.robot.RobotConfig.wheelbase_fm`); ``ratio``: its slot in the
+    ratio vector (and in each mode's kappa of :data:`THRESHOLDS`); ``qp_rows``: the rows
+    ``[start, stop)`` of the saturated IK's ``G u <= h`` that keep it one step ahead (None: not in
+    the QP); ``halts``: the supervisor halts when the measured ratio reaches kappa;
+    ``with_clutch``: its QP rows are kept in the lifting modes (False: the symmetric-lift rows a
+    clutched side does not follow). The rows are built by
+    :func:`~terrabench.systems.srwmr.ik.build_qp` and the ratios by :func:`period_ratios`
+    (compiled, one kernel each); tests/srwmr/test_constraints_ik_metrics.py checks that a command
+    on a term's QP boundary gives exactly its kappa as ratio.
     """
 
     name: str

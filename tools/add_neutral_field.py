@@ -1,4 +1,4 @@
-"""Carry a results store across a config field added with a neutral default.
+"""Carry a results store across a config field added with a neutral default, or removed.
 
 Every trial is keyed by its whole resolved config, so a new field (even one whose default
 leaves the physics as it was) gives every trial of its system a new key: the stored rows
@@ -12,11 +12,18 @@ the rover's rows of the mobility map, whose robot config sits under ``robot``; `
 robot`` then prefixes the path) and re-derives the keys (:meth:`ResultsStore.rekey`); metrics
 and series are not touched. A backup of the file is written first.
 
+``--drop PATH`` does the opposite for a field the code no longer has: it removes PATH from every
+stored row that holds it. A field removed because nothing read it (tests/test_config_docs.py,
+``test_every_config_field_is_read_by_the_package``) is neutral by construction; rows that differed
+only in it collide on one key, and :meth:`ResultsStore.rekey` keeps the first and leaves the
+others under their old keys.
+
 Check the neutrality before trusting the result: re-run a sample of the rekeyed trials into a
 fresh store with the current code and compare, e.g.
 ``python tools/compare_stores.py OLD.duckdb NEW.duckdb --by trial`` (0 differ).
 
 Usage: python tools/add_neutral_field.py STORE --system srwmr --field soil.buried=0.0
+       python tools/add_neutral_field.py STORE --system srwmr --drop scales.wb_min
        python tools/add_neutral_field.py STORE --system zoo --method-prefix srwmr. \
            --under robot --field soil.buried=0.0
 """
@@ -53,18 +60,40 @@ def with_field(config: dict, path: list[str], value: object) -> dict | None:
     return out
 
 
+def without_field(config: dict, path: list[str]) -> dict | None:
+    """``config`` without ``path`` if it holds it; None if it does not."""
+    out = json.loads(json.dumps(config))
+    node = out
+    for part in path[:-1]:
+        node = node.get(part) if isinstance(node, dict) else None
+        if not isinstance(node, dict):
+            return None
+    if path[-1] not in node:
+        return None
+    del node[path[-1]]
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("store", type=Path)
     ap.add_argument("--system", required=True)
-    ap.add_argument("--field", action="append", required=True, help="dotted path=JSON value (repeatable)")
+    ap.add_argument("--field", action="append", default=[], help="dotted path=JSON value to add (repeatable)")
+    ap.add_argument("--drop", action="append", default=[], help="dotted path to remove (repeatable)")
     ap.add_argument("--method-prefix", default="")
     ap.add_argument("--under", default="", help="section the path sits in (e.g. robot for zoo rows)")
     args = ap.parse_args()
+    if not args.field and not args.drop:
+        raise SystemExit("give at least one --field PATH=VALUE or --drop PATH")
+
+    def under(path: list[str]) -> list[str]:
+        return [*args.under.split("."), *path] if args.under else path
+
     fields = []
     for text in args.field:
         path, value = parse_field(text)
-        fields.append(([*args.under.split("."), *path] if args.under else path, value))
+        fields.append((under(path), value))
+    drops = [under(text.split(".")) for text in args.drop]
 
     def canonical(spec: TrialSpec) -> TrialSpec | None:
         if not spec.method.startswith(args.method_prefix):
@@ -72,6 +101,10 @@ def main() -> None:
         cfg, changed = dict(spec.config), False
         for path, value in fields:
             new = with_field(cfg, path, value)
+            if new is not None:
+                cfg, changed = new, True
+        for path in drops:
+            new = without_field(cfg, path)
             if new is not None:
                 cfg, changed = new, True
         if not changed:

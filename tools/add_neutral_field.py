@@ -46,32 +46,34 @@ def parse_field(text: str) -> tuple[list[str], object]:
     return path.split("."), json.loads(value)
 
 
-def with_field(config: dict, path: list[str], value: object) -> dict | None:
-    """``config`` with ``path`` set to ``value`` if it lacks it; None if it has it or its section is absent."""
+def _section(config: dict, path: list[str]) -> tuple[dict, dict] | None:
+    """(a deep copy of ``config``, the copy's section holding ``path``'s last part), or None if a
+    section on the way is absent."""
     out = json.loads(json.dumps(config))
     node = out
     for part in path[:-1]:
         node = node.get(part) if isinstance(node, dict) else None
         if not isinstance(node, dict):
             return None
-    if path[-1] in node:
+    return out, node
+
+
+def with_field(config: dict, path: list[str], value: object) -> dict | None:
+    """``config`` with ``path`` set to ``value`` if it lacks it; None if it has it or its section is absent."""
+    found = _section(config, path)
+    if found is None or path[-1] in found[1]:
         return None
-    node[path[-1]] = value
-    return out
+    found[1][path[-1]] = value
+    return found[0]
 
 
 def without_field(config: dict, path: list[str]) -> dict | None:
     """``config`` without ``path`` if it holds it; None if it does not."""
-    out = json.loads(json.dumps(config))
-    node = out
-    for part in path[:-1]:
-        node = node.get(part) if isinstance(node, dict) else None
-        if not isinstance(node, dict):
-            return None
-    if path[-1] not in node:
+    found = _section(config, path)
+    if found is None or path[-1] not in found[1]:
         return None
-    del node[path[-1]]
-    return out
+    del found[1][path[-1]]
+    return found[0]
 
 
 def main() -> None:

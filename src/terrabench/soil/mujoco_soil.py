@@ -279,6 +279,10 @@ def _soil_kernel(bodies, roots, xpos, xmat, cvel, scom, xipos, xfrc, gmode, gh, 
             # stress angles and exponent behind the load it carries) fades with the speed
             st = s * fade
         W, DP, T, Fy = lookup_one(sink, st, C, tab, dwdz, tp)
+        if fp[7] > 0.0 and DP < 0.0 and d * vf <= 0.0:
+            # the rim turns along d but the hub does not advance: the compaction resistance of the
+            # steady state needs a soil face ahead, and this wheel's rut lies behind it
+            DP = 0.0
         Fn = W - damping * vn
         if Fn < 0.0 or sink <= 0.0:
             Fn = 0.0
@@ -397,7 +401,8 @@ class SoilWheels:
                  damping: float | None = None, damping_ratio: float = 1.0,
                  nominal_load: float | None = None, every: int = 1, v_eps: float = 0.02,
                  disable_contact: bool = True, refresh: bool = False, footing: bool = True,
-                 ruts: float | Sequence[float] | None = None, rut_width: float | None = None):
+                 ruts: float | Sequence[float] | None = None, rut_width: float | None = None,
+                 rut_behind: bool = False):
         if int(every) != every or every < 1:
             raise ValueError(f"every={every!r} is invalid; valid range: integer >= 1")
         if not v_eps > 0:
@@ -439,8 +444,13 @@ class SoilWheels:
         z0 = t.static_sinkage(nominal_load)
         k_t = float(np.interp(z0, t.z, self._caps[:, 0])) / self.soil.K  # initial footing stiffness (N/m)
         self.footing_damping = 2.0 * damping_ratio * np.sqrt(max(k_t, 0.0) * nominal_load / g)
+        #: a driven wheel whose hub does not advance has its rut behind it: no soil face ahead pushes
+        #: the hub back (the steady state's negative drawbar pull is dropped there); off by default
+        #: until the stored results are re-made with it (docs/soil.md, "Limitations")
+        self.rut_behind = bool(rut_behind)
         self._fp = np.array([1.0 if self.footing else 0.0, float(model.opt.timestep) * self.every, self.soil.K,
-                             self.soil.Ky, self.soil.c_exit, self.footing_damping, self.v_eps])
+                             self.soil.Ky, self.soil.c_exit, self.footing_damping, self.v_eps,
+                             1.0 if self.rut_behind else 0.0])
         if disable_contact:
             disable_rigid_contact(model, self.bodies)
         self.refresh = bool(refresh)

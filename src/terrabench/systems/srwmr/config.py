@@ -60,6 +60,11 @@ class SoilConfig:
     every: int = param(1, ge=1, le=4, doc="soil forces every k-th physics step")
     refresh: bool = param(True, choices=(True, False), doc="soil forces from the current (not one-step-old) velocities")
     footing: bool = param(True, choices=(True, False), doc="static footing of still wheels (docs/soil.md)")
+    rut_behind: bool = param(False, choices=(True, False),
+                             doc="a driven wheel whose hub does not advance feels no steady-state soil resistance "
+                                 "pushing it back (its rut lies behind it); off: the forward-travel steady state at "
+                                 "the clipped slip, which backs a wheel with no thrust to spare away at about its "
+                                 "rim speed (docs/soil.md, 'Limitations'; off until the stored results are re-made)")
 
     def __post_init__(self) -> None:
         check_fields(self)

@@ -256,6 +256,7 @@ class SRWMRTask(TaskBase):
             refresh=self.cfg.soil.refresh,
             footing=self.cfg.soil.footing,
             ruts=rut if rut > 0.0 else None,
+            rut_behind=self.cfg.soil.rut_behind,
         )
         model.geom_contype[[model.geom(Names.wheel(c)).id for c in WHEELS]] = WHEEL_BIT
         self.before_substep = self.soil_wheels.before_substep

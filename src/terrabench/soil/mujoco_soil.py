@@ -25,7 +25,9 @@ Per wheel and per call (all wheels vectorised):
    ``g = min(1, max(|r omega|, |v_x|)/v_eps)`` so a wheel at rest feels no rolling resistance
    (no creeping at rest), lateral ``Fy`` against ``v_y``. W and DP act at the axle (the
    Wong-Reece resultants are axle forces; T is the moment of the shear stresses about it), Fy
-   at the rim bottom. Everything is written as force + moment about the body's CoM.
+   at the rim bottom. Everything is written as force + moment about the body's CoM. With
+   ``rut_behind=True`` a negative DP is dropped while the rim turns along the travel direction and
+   the hub does not advance (its rut lies behind it; off by default, docs/soil.md "Limitations").
 6. Static footing (``footing=True``, the default): the steady-state DP, T and Fy are weighted by
    ``g = min(|r omega| / v_eps, 1)`` (they need soil flowing under a turning rim) and the rest of
    the tangential reaction, ``1 - g``, is the footing of the contact patch: a per-wheel state

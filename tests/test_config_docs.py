@@ -9,6 +9,7 @@ its fields in an ``Attributes:`` block of its docstring (the copy that drifts fr
 from __future__ import annotations
 
 import dataclasses
+import functools
 import re
 import typing
 
@@ -134,16 +135,18 @@ def test_the_walk_finds_every_section_and_names_class_and_field():
     assert problems[2].startswith(f"{name}.z: not declared with param()")
 
 
-def _package_sources() -> list[str]:
+@functools.lru_cache(maxsize=1)
+def _package_sources() -> tuple[str, ...]:
+    """Every module's text, read once for all the systems' runs."""
     import pathlib
 
     import terrabench
 
     root = pathlib.Path(terrabench.__file__).parent
-    return [p.read_text() for p in sorted(root.rglob("*.py"))]
+    return tuple(p.read_text() for p in sorted(root.rglob("*.py")))
 
 
-def unread_fields(root: type, instance: typing.Any, sources: list[str]) -> list[str]:
+def unread_fields(root: type, instance: typing.Any, sources: typing.Sequence[str]) -> list[str]:
     """Leaf fields of the tree whose name the package never reads: no attribute access
     ``.name`` and no string literal ``"name"`` (a getattr, a ``--set`` key built from parts)
     anywhere but a declaration ``name: ... = param(``. By name, so a field sharing its name with a

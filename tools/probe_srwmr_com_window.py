@@ -27,28 +27,16 @@ from terrabench.systems.srwmr import linkage_fit as fit
 from terrabench.systems.srwmr.robot import RobotConfig
 
 
-def refit_with(**targets: tuple[str, float]) -> RobotConfig:
+def refit_with(**changes: tuple[str, float]) -> RobotConfig:
     """The linkage fit again with some targets' (field, value) replaced; the fitted config."""
-    saved = fit.TARGETS
-    try:
-        fit.TARGETS = tuple(dataclasses.replace(t, **dict([targets[t.name]])) if t.name in targets else t
-                            for t in saved)
-        cfg, _ = fit.refit(fit.fitted_robot())
-    finally:
-        fit.TARGETS = saved
-    return cfg
-
-
-def middle_ahead(cfg: RobotConfig, clearance: float) -> float:
-    """x of the middle axle ahead of the body's CoM (m) at ``clearance`` on level flat ground."""
-    d = kin.delta_for_clearance(cfg, clearance)
-    return float(kin.axle_positions(cfg, [d, d], kin.level_zeta(cfg, [d, d]))[2, 0]) - cfg.com_x
+    targets = tuple(dataclasses.replace(t, **dict([changes[t.name]])) if t.name in changes else t
+                    for t in fit.TARGETS)
+    return fit.refit(fit.fitted_robot(), targets)[0]
 
 
 def tyre_gap_kept(cfg: RobotConfig, clearance: float) -> bool:
     d = kin.delta_for_clearance(cfg, clearance)
-    p = kin.axle_positions(cfg, [d, d], kin.level_zeta(cfg, [d, d]))
-    return float(p[0, 0] - p[2, 0]) >= cfg.wheelbase_fm_least
+    return float(kin.wheelbase_front_middle(cfg, [d, d])[0]) >= cfg.wheelbase_fm_least
 
 
 def variants() -> dict[str, RobotConfig]:
@@ -71,7 +59,7 @@ def main() -> None:
     for name, cfg in variants().items():
         top = fit.evaluate(cfg)["clearance_max_m"]
         cls = [c for c in np.arange(0.15, top, 0.001) if tyre_gap_kept(cfg, c)]
-        ahead = [middle_ahead(cfg, c) for c in cls]
+        ahead = [kin.middle_ahead_of_com(cfg, c) for c in cls]
         curves[name] = (cls, ahead)
         rows.append({"variant": name, "com_x_m": round(cfg.com_x, 4),
                      "shrink_per_lift": round(fit.evaluate(cfg)["shrink_per_lift"], 3),

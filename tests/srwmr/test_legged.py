@@ -212,11 +212,10 @@ def test_com_shift_puts_the_middle_axle_ahead_of_the_com_upwards_and_behind_it_d
     clearance puts the middle support ahead of the CoM (a front wheel can leave the ground), lowering
     to the rear shift's clearance puts it well behind (a rear wheel can); the earlier linkage kept
     the middle axle under the hinge and CoM within 3 mm when lowered, so no rear wheel could lift."""
-    from terrabench.systems.srwmr.kinematics import delta_for_clearance
+    from terrabench.systems.srwmr.kinematics import middle_ahead_of_com
 
     def x_mid(cl):
-        d = delta_for_clearance(CFG, cl)
-        return axle_positions(CFG, [d, d], level_zeta(CFG, [d, d]))[2, 0] - CFG.com_x
+        return middle_ahead_of_com(CFG, cl)
 
     assert x_mid(legged.SHIFT["front"]) > 0.02
     assert x_mid(legged.SHIFT["rear"]) < -0.2

@@ -227,6 +227,14 @@ def clearance_range(cfg: RobotConfig) -> tuple[float, float]:
     return chassis_clearance(cfg, [-hi, -hi]), chassis_clearance(cfg, [-lo, -lo])
 
 
+def middle_ahead_of_com(cfg: RobotConfig, clearance: float) -> float:
+    """x (m) of the middle axle ahead of the body's CoM at ``clearance`` on level flat ground: a
+    front wheel can leave the ground when it is > 0 (the CoM behind the middle support), a rear one
+    when it is < 0 (the legged modes' CoM shift, docs/srwmr.md "The CoM window")."""
+    d = delta_for_clearance(cfg, clearance)
+    return float(axle_positions(cfg, [d, d], level_zeta(cfg, [d, d]))[2, 0]) - cfg.com_x
+
+
 def wheelbase_front_middle(cfg: RobotConfig, delta) -> np.ndarray:
     """(2,) horizontal front-to-middle axle distance per side (m) (the wheelbase d_wl/2)."""
     p = axle_positions(cfg, delta, level_zeta(cfg, delta))

@@ -28,6 +28,7 @@ from terrabench.systems.srwmr.kinematics import (
     chassis_clearance,
     delta_for_clearance,
     level_zeta,
+    middle_ahead_of_com,
     period_geometry,
     wheelbase_front_middle,
 )
@@ -166,10 +167,6 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
     d500 = delta_for_clearance(cfg, 0.50)
     wb500 = float(wheelbase_front_middle(cfg, [d500, d500])[0])
 
-    def middle_x(clear: float) -> float:
-        d = delta_for_clearance(cfg, clear)
-        return float(axle_positions(cfg, [d, d], level_zeta(cfg, [d, d]))[2, 0]) - cfg.com_x
-
     loads = side_loads(cfg)
     cmax = max(chassis_clearance(cfg, [d, d]) for d in _CLOSING)
     front_rise, rear_rise = -J[0, 2], -J[2, 2]
@@ -179,8 +176,8 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
         "shrink_per_lift": float(-(J[0, 0] - J[2, 0]) / rise),
         "front_per_lift": float(-J[0, 0] / rise),
         "mc3_at_480": float((fm - wb480) / fm),
-        "middle_ahead_at_150_m": middle_x(0.15),
-        "middle_ahead_at_500_m": middle_x(0.50),
+        "middle_ahead_at_150_m": middle_ahead_of_com(cfg, 0.15),
+        "middle_ahead_at_500_m": middle_ahead_of_com(cfg, 0.50),
         "w_diff_nominal_N": float(loads.max() - loads.min()),
         "pitch_per_lift": float((front_rise - rear_rise) / (p[0, 0] - p[2, 0]) / rise),
         "hinge_height_m": cfg.hinge_height,
@@ -201,10 +198,10 @@ def evaluate(cfg: RobotConfig) -> dict[str, float]:
     }
 
 
-def residuals(values: dict[str, float]) -> np.ndarray:
+def residuals(values: dict[str, float], targets: tuple[Target, ...] = TARGETS) -> np.ndarray:
     """Each target's residual in units of its tolerance (0 inside a bound)."""
     out = []
-    for t in TARGETS:
+    for t in targets:
         v = values[t.name]
         if t.kind == "eq":
             out.append((v - t.value) / t.tol)
@@ -215,8 +212,9 @@ def residuals(values: dict[str, float]) -> np.ndarray:
     return np.array(out)
 
 
-def refit(base: RobotConfig | None = None) -> tuple[RobotConfig, float]:
-    """Least squares over :data:`FREE` from a grid of starts; the best config and its cost."""
+def refit(base: RobotConfig | None = None, targets: tuple[Target, ...] = TARGETS) -> tuple[RobotConfig, float]:
+    """Least squares over :data:`FREE` from a grid of starts; the best config and its cost.
+    ``targets``: :data:`TARGETS` (the default geometry's fit) or a variant of them (a study)."""
     from scipy.optimize import least_squares
 
     base = RobotConfig() if base is None else base
@@ -225,9 +223,9 @@ def refit(base: RobotConfig | None = None) -> tuple[RobotConfig, float]:
 
     def fun(x):
         try:
-            return residuals(evaluate(with_free(base, x)))
+            return residuals(evaluate(with_free(base, x)), targets)
         except ValueError:  # a pillar too short: outside the buildable set
-            return np.full(len(TARGETS), 1e3)
+            return np.full(len(targets), 1e3)
 
     best = None
     for tf in (0.05, 0.5):
